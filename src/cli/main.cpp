@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// paramesh: command-line front end of the ParaMesh library.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "paramesh/geom/occ/OccModel.hpp"
+#include "paramesh/io/MeshWriters.hpp"
+#include "paramesh/io/PngRender.hpp"
+#include "paramesh/pipeline/Mesher.hpp"
+#include "paramesh/pipeline/ReportJson.hpp"
+#include "paramesh/util/Error.hpp"
+
+using namespace paramesh;
+
+namespace {
+
+const char* kUsage =
+    "usage:\n"
+    "  paramesh mesh MODEL -o OUT [-o OUT2 ...] [options]   mesh a STEP/IGES/BREP model\n"
+    "  paramesh info MODEL                                  list faces and edges\n"
+    "\n"
+    "mesh options:\n"
+    "  --size H              target element size (default: bounding-box diagonal / 50)\n"
+    "  --min-size H          smallest size any size source may ask for (default: size/100)\n"
+    "  --max-size H          largest element size (default: size)\n"
+    "  --curvature-angle DEG max angle an element may subtend on curved faces/edges (0: off)\n"
+    "  --grading G           max size ratio between neighbouring elements (default 1.3)\n"
+    "  --threads N           worker threads (0: all cores; default 1)\n"
+    "  --optimize N          optimisation passes (default 4)\n"
+    "  --report FILE.json    write the run report\n"
+    "  --png FILE.png        render a picture of the mesh\n"
+    "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
+    "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
+    "  --quiet               no log on stderr\n"
+    "OUT format from its extension: .msh (Gmsh 4.1), .vtu, .stl, .inp\n"
+    "exit codes: 0 ok, 1 usage/parameter error, 2 unreadable input, 3 some faces failed,\n"
+    "            4 no face could be meshed, 5 output could not be written\n";
+
+[[noreturn]] void die(int code, const std::string& msg) {
+  std::fprintf(stderr, "paramesh: %s\n", msg.c_str());
+  std::exit(code);
+}
+
+double parseNumber(const std::string& opt, const char* s) {
+  char* end = nullptr;
+  errno = 0;
+  double v = std::strtod(s, &end);
+  if (!s[0] || *end || errno) die(1, "option " + opt + " expects a number, got '" + s + "'");
+  return v;
+}
+int parseInt(const std::string& opt, const char* s) {
+  char* end = nullptr;
+  long v = std::strtol(s, &end, 10);
+  if (!s[0] || *end) die(1, "option " + opt + " expects an integer, got '" + s + "'");
+  return (int)v;
+}
+std::vector<double> parseList(const std::string& opt, const char* s, size_t n) {
+  std::vector<double> v;
+  std::stringstream ss(s);
+  std::string tok;
+  while (std::getline(ss, tok, ',')) v.push_back(parseNumber(opt, tok.c_str()));
+  if (v.size() != n) die(1, "option " + opt + " expects " + std::to_string(n) + " comma-separated numbers");
+  return v;
+}
+
+int cmdInfo(int argc, char** argv) {
+  if (argc < 3) die(1, "info: missing MODEL");
+  try {
+    auto m = loadOccModel(argv[2]);
+    std::printf("%s: %d faces, %d edges, %d vertices, %d solids, diagonal %.6g\n", argv[2], m->numFaces(),
+                m->numEdges(), m->numVertices(), m->numSolids(), m->boundingBox().diagonal());
+    for (int f = 0; f < m->numFaces(); ++f) {
+      auto s = m->makeSurface(f);
+      std::printf("Face%d %s%s edges:", f + 1, toString(s->kind()), m->faceReversed(f) ? " (reversed)" : "");
+      for (const Wire& w : m->faceWires(f)) {
+        std::printf(" [");
+        for (const EdgeUse& u : w.uses) std::printf(" %sEdge%d", u.reversed ? "-" : "", u.edge + 1);
+        std::printf(" ]");
+      }
+      std::printf("\n");
+    }
+  } catch (const Error& e) {
+    die(2, e.what());
+  }
+  return 0;
+}
+
+int cmdMesh(int argc, char** argv) {
+  MeshParams p;
+  std::string model, report, png;
+  std::vector<std::string> outs;
+  RenderOptions ro;
+  bool quiet = false;
+  for (int i = 2; i < argc; ++i) {
+    std::string a = argv[i];
+    auto next = [&]() -> const char* {
+      if (i + 1 >= argc) die(1, "option " + a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "-o" || a == "--output") outs.push_back(next());
+    else if (a == "--size") p.size = parseNumber(a, next());
+    else if (a == "--min-size") p.minSize = parseNumber(a, next());
+    else if (a == "--max-size") p.maxSize = parseNumber(a, next());
+    else if (a == "--curvature-angle") p.curvatureAngle = parseNumber(a, next());
+    else if (a == "--grading") p.grading = parseNumber(a, next());
+    else if (a == "--threads") p.threads = parseInt(a, next());
+    else if (a == "--optimize") p.optimizePasses = parseInt(a, next());
+    else if (a == "--report") report = next();
+    else if (a == "--png") png = next();
+    else if (a == "--view") {
+      auto v = parseList(a, next(), 2);
+      ro.azimuthDeg = v[0];
+      ro.elevationDeg = v[1];
+    } else if (a == "--focus") {
+      auto v = parseList(a, next(), 6);
+      ro.hasFocus = true;
+      ro.focusLo = {v[0], v[1], v[2]};
+      ro.focusHi = {v[3], v[4], v[5]};
+    } else if (a == "--quiet") quiet = true;
+    else if (!a.empty() && a[0] == '-') die(1, "unknown option " + a);
+    else if (model.empty()) model = a;
+    else die(1, "unexpected argument '" + a + "'");
+  }
+  if (model.empty()) die(1, "mesh: missing MODEL");
+  if (outs.empty() && report.empty() && png.empty()) die(1, "mesh: give an output with -o OUT");
+  std::unique_ptr<IGeometryModel> geo;
+  try {
+    geo = loadOccModel(model);
+  } catch (const Error& e) {
+    die(2, e.what());
+  }
+  LogSink sink;
+  if (!quiet)
+    sink = [](LogLevel l, const std::string& m) {
+      if (l >= LogLevel::Info) std::fprintf(stderr, "%s\n", m.c_str());
+    };
+  MeshOutput out;
+  try {
+    Mesher mesher(*geo, p, sink);
+    out = mesher.run();
+  } catch (const ParameterError& e) {
+    die(1, e.what());
+  } catch (const InputError& e) {
+    die(2, e.what());
+  } catch (const Error& e) {
+    die(4, e.what());
+  }
+  try {
+    for (const auto& o : outs) writeMesh(o, out.mesh);
+    if (!report.empty()) writeReportJson(report, out.report);
+    if (!png.empty()) renderPng(png, out.mesh, ro);
+  } catch (const Error& e) {
+    die(5, e.what());
+  }
+  const Report& r = out.report;
+  if (!quiet) {
+    double total = 0;
+    for (auto& kv : r.stageSeconds)
+      if (kv.first == "total") total = kv.second;
+    std::fprintf(stderr, "%d nodes, %d triangles, %d quads in %.3f s; gamma mean %.4f, min angle %.2f deg\n",
+                 r.nodes, r.triangles, r.quads, total, r.quality.gammaMean, r.quality.angleMin);
+  }
+  if (r.status == RunStatus::Degraded) die(3, r.message);
+  if (r.status == RunStatus::Failed) die(4, r.message);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help")) {
+    std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? 1 : 0;
+  }
+  std::string cmd = argv[1];
+  if (cmd == "mesh") return cmdMesh(argc, argv);
+  if (cmd == "info") return cmdInfo(argc, argv);
+  die(1, "unknown command '" + cmd + "' (use mesh or info)");
+}

@@ -1,0 +1,326 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/algo/FaceMesher.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+
+#include "paramesh/algo/Optimizer.hpp"
+#include "paramesh/algo/Predicates.hpp"
+#include "paramesh/algo/SurfaceContext.hpp"
+#include "paramesh/algo/Triangulation.hpp"
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+namespace {
+
+inline int nx(int i) { return i == 2 ? 0 : i + 1; }
+inline int pv(int i) { return i == 0 ? 2 : i - 1; }
+
+/// Cholesky factor of the metric (a,b,c): x' = (ra x + rb y, rc y).
+struct Chol {
+  double ra = 1, rb = 0, rc = 1;
+  bool ok = false;
+  explicit Chol(const double* M) {
+    if (M[0] > 0) {
+      ra = std::sqrt(M[0]);
+      rb = M[1] / ra;
+      const double r = M[2] - rb * rb;
+      if (r > 0) {
+        rc = std::sqrt(r);
+        ok = true;
+      }
+    }
+  }
+  Vec2 fwd(Vec2 w) const { return {ra * w.x + rb * w.y, rc * w.y}; }
+  Vec2 inv(Vec2 w) const {
+    const double y = w.y / rc;
+    return {(w.x - rb * y) / ra, y};
+  }
+};
+
+/// Frontal-Delaunay refinement (Rebay-style front of accepted triangles, points placed in 3D).
+class Frontal {
+ public:
+  Frontal(Triangulation& T, const SurfaceContext& C, const FaceMeshOptions& o, const Progress* p)
+      : T_(T), C_(C), opt_(o), progress_(p) {}
+
+  int rejected = 0;
+
+  void run() {
+    grow();
+    for (int t = 0; t < (int)T_.tris.size(); ++t) update(t);
+    for (int t = 0; t < (int)T_.tris.size(); ++t) pushIfActive(t);
+    long inserted = 0;
+    const Triangulation::FlipTest test = [this](int t, int i) { return T_.metricFlip(t, i); };
+    std::vector<int> touched;
+    while (!heap_.empty()) {
+      const Entry e = heap_.top();
+      heap_.pop();
+      const int t = e.t;
+      if (T_.tris[t].dead || stamp_[t] != e.stamp || good_[t]) continue;
+      int edge = -1;
+      if (!active(t, &edge)) continue;
+      if ((inserted & 1023) == 0 && progress_) progress_->poll();
+      if (inserted > opt_.maxPoints) break;
+      Vec2 s;
+      Vec3 p;
+      if (!newPoint(t, edge, s, p)) {
+        forceGood(t);
+        continue;
+      }
+      int onEdge = -1;
+      int where = T_.locate(s, t, &onEdge);
+      if (where < 0 || (onEdge >= 0 && T_.isConstrained(where, onEdge)) || tooClose(where, p)) {
+        ++rejected;
+        forceGood(t);
+        continue;
+      }
+      TriVertex v;
+      v.uv = s;
+      v.xyz = p;
+      C_.fill(v);
+      const int vid = T_.addVertex(v);
+      const Triangle before = T_.tris[t];
+      touched.clear();
+      T_.insert(vid, where, onEdge, test, &touched);
+      ++inserted;
+      grow();
+      // the processed triangle, if it survived unchanged, is closed
+      if (!T_.tris[t].dead && T_.tris[t].v[0] == before.v[0] && T_.tris[t].v[1] == before.v[1] &&
+          T_.tris[t].v[2] == before.v[2])
+        forceGood(t);
+      for (int u : touched) update(u);
+      for (int u : touched) {
+        if (T_.tris[u].dead) continue;
+        pushIfActive(u);
+        for (int k = 0; k < 3; ++k)
+          if (T_.tris[u].n[k] >= 0) pushIfActive(T_.tris[u].n[k]);
+      }
+    }
+  }
+
+ private:
+  struct Entry {
+    double rho;
+    int t;
+    uint32_t stamp;
+    bool operator<(const Entry& o) const { return rho < o.rho; }
+  };
+
+  void grow() {
+    const size_t n = T_.tris.size();
+    if (rho_.size() < n) {
+      rho_.resize(n, 1e300);
+      good_.resize(n, 0);
+      stamp_.resize(n, 0);
+    }
+  }
+
+  /// Circumradius of t in its mean metric (unit = target size); +inf when inverted.
+  double radius(int t) const {
+    const Triangle& tr = T_.tris[t];
+    const TriVertex &a = T_.verts[tr.v[0]], &b = T_.verts[tr.v[1]], &c = T_.verts[tr.v[2]];
+    double M[3];
+    for (int k = 0; k < 3; ++k) M[k] = (a.M[k] + b.M[k] + c.M[k]) / 3.0;
+    Chol L(M);
+    if (!L.ok) return 1e300;
+    const Vec2 B = L.fwd(b.uv - a.uv), Cc = L.fwd(c.uv - a.uv);
+    const double ar = cross(B, Cc);
+    if (!(ar > 0)) return 1e300;
+    const double la = norm(B - Cc), lb = norm(Cc), lc = norm(B);
+    return la * lb * lc / (2.0 * ar);
+  }
+
+  void update(int t) {
+    if (T_.tris[t].dead) return;
+    ++stamp_[t];
+    rho_[t] = radius(t);
+    good_[t] = rho_[t] < opt_.acceptRadius ? 1 : 0;
+  }
+
+  void forceGood(int t) {
+    ++stamp_[t];
+    good_[t] = 1;
+    for (int k = 0; k < 3; ++k)
+      if (T_.tris[t].n[k] >= 0) pushIfActive(T_.tris[t].n[k]);
+  }
+
+  bool active(int t, int* edge) const {
+    if (good_[t]) return false;
+    const Triangle& tr = T_.tris[t];
+    int best = -1;
+    double bestLen = -1;
+    for (int i = 0; i < 3; ++i) {
+      const int u = tr.n[i];
+      if (u < 0 || T_.isConstrained(t, i) || good_[u]) {
+        const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
+        if (l > bestLen) {
+          bestLen = l;
+          best = i;
+        }
+      }
+    }
+    if (edge) *edge = best;
+    return best >= 0;
+  }
+
+  void pushIfActive(int t) {
+    if (T_.tris[t].dead) return;
+    if (active(t, nullptr)) heap_.push({rho_[t], t, stamp_[t]});
+  }
+
+  /// The frontal point for front edge `edge` of t, in scaled uv (s) and 3D (p).
+  bool newPoint(int t, int edge, Vec2& s, Vec3& p) const {
+    const Triangle& tr = T_.tris[t];
+    const TriVertex &A = T_.verts[tr.v[nx(edge)]], &B = T_.verts[tr.v[pv(edge)]], &Cv = T_.verts[tr.v[edge]];
+    double M[3];
+    for (int k = 0; k < 3; ++k) M[k] = (A.M[k] + B.M[k] + Cv.M[k]) / 3.0;
+    Chol L(M);
+    if (!L.ok) return false;
+    const Vec2 b = L.fwd(B.uv - A.uv), c = L.fwd(Cv.uv - A.uv);
+    const double len = norm(b);
+    if (!(len > 0)) return false;
+    const Vec2 mid = 0.5 * b;
+    const Vec2 n{-b.y / len, b.x / len};  // left of A->B: towards C
+    // circumcentre of (0, b, c) in metric space
+    const double d = 2.0 * cross(b, c);
+    if (!(d > 0)) return false;
+    const double bb = dot(b, b), cc = dot(c, c);
+    const Vec2 cen{(c.y * bb - b.y * cc) / d, (b.x * cc - c.x * bb) / d};
+    const double q = dot(cen - mid, n);  // signed distance midpoint -> circumcentre
+    const double half = 0.5 * len;
+    const double rhoT = std::max(1.0 / std::sqrt(3.0), half);
+    double dist = rhoT + std::sqrt(std::max(rhoT * rhoT - half * half, 0.0));
+    if (q > 0) dist = std::min(dist, q);
+    if (!(dist > 1e-3)) return false;
+    const Vec2 sPred = A.uv + L.inv(mid + dist * n);
+    if (C_.planar) {
+      s = sPred;
+      p = C_.surf.eval(C_.toParam(s));
+      return true;
+    }
+    // 3D placement: from the 3D edge midpoint, in the tangent plane, at the same relative height
+    const double hE = 3.0 / (1.0 / A.h + 1.0 / B.h + 1.0 / Cv.h);
+    Vec3 nrm = A.normal + B.normal;
+    if (norm2(nrm) < 1e-20) {
+      if (!C_.surf.normal(C_.toParam(0.5 * (A.uv + B.uv)), nrm)) nrm = Cv.normal;
+    }
+    const Vec3 e3 = B.xyz - A.xyz;
+    Vec3 dir = normalized(cross(nrm, e3));
+    if (norm2(dir) < 0.5) return false;
+    // express the metric distance in 3D: the metric unit is the local size
+    const Vec3 target = 0.5 * (A.xyz + B.xyz) + (dist * hE) * dir;
+    s = sPred;
+    if (!C_.project(target, s, p)) {
+      s = sPred;
+      p = C_.surf.eval(C_.toParam(s));
+    }
+    // reject projections that jumped far away (wrong branch of a closed surface)
+    if (dist3(p, target) > 2.0 * dist * hE) {
+      s = sPred;
+      p = C_.surf.eval(C_.toParam(s));
+    }
+    return true;
+  }
+  static double dist3(Vec3 a, Vec3 b) { return paramesh::dist(a, b); }
+
+  bool tooClose(int t, Vec3 p) const {
+    const Triangle& tr = T_.tris[t];
+    for (int k = 0; k < 3; ++k) {
+      const TriVertex& v = T_.verts[tr.v[k]];
+      if (dist3(v.xyz, p) < 0.4 * v.h) return true;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int u = tr.n[k];
+      if (u < 0) continue;
+      const int j = T_.edgeTo(u, t);
+      if (j < 0) continue;
+      const TriVertex& v = T_.verts[T_.tris[u].v[j]];
+      if (dist3(v.xyz, p) < 0.4 * v.h) return true;
+    }
+    return false;
+  }
+
+  Triangulation& T_;
+  const SurfaceContext& C_;
+  const FaceMeshOptions& opt_;
+  const Progress* progress_;
+  std::vector<double> rho_;
+  std::vector<uint8_t> good_;
+  std::vector<uint32_t> stamp_;
+  std::priority_queue<Entry> heap_;
+};
+
+}  // namespace
+
+FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, const SizeField& size,
+                        const FaceMeshOptions& opt, const Progress* progress) {
+  FaceMeshResult res;
+  try {
+    SurfaceContext C(surf, size);
+    Triangulation T;
+    std::vector<std::pair<int, int>> segs;
+    for (const auto& loop : boundary.loops) {
+      if (loop.size() < 2) continue;
+      const int first = (int)T.verts.size();
+      for (const BoundaryVertex& b : loop) {
+        TriVertex v;
+        v.uv = C.toScaled(b.uv);
+        v.xyz = b.xyz;
+        v.node = b.node;
+        v.flags = VF_BOUNDARY | (b.pole ? VF_POLE : 0);
+        C.fill(v);
+        T.addVertex(v);
+      }
+      const int n = (int)loop.size();
+      for (int i = 0; i < n; ++i) segs.emplace_back(first + i, first + (i + 1) % n);
+    }
+    std::string why;
+    if (!T.buildConstrained(segs, why)) {
+      res.error = why;
+      return res;
+    }
+    Frontal fr(T, C, opt, progress);
+    fr.run();
+    res.rejectedPoints = fr.rejected;
+    Optimizer O(T, C);
+    O.run(opt.optimizePasses);
+    T.compact();
+    // output
+    std::vector<int> ref(T.verts.size());
+    for (size_t v = 0; v < T.verts.size(); ++v) {
+      const TriVertex& V = T.verts[v];
+      if (V.node >= 0) {
+        ref[v] = V.node;
+      } else {
+        res.newXyz.push_back(V.xyz);
+        res.newUv.push_back(C.toParam(V.uv));
+        ref[v] = -(int)res.newXyz.size();
+      }
+    }
+    for (const Triangle& tr : T.tris) {
+      if (tr.dead) continue;
+      std::array<int, 3> r{ref[tr.v[0]], ref[tr.v[1]], ref[tr.v[2]]};
+      if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
+        ++res.degenerateDropped;
+        continue;
+      }
+      res.tris.push_back(r);
+    }
+    if (res.tris.empty()) {
+      res.error = "no triangle was produced";
+      return res;
+    }
+    res.ok = true;
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const std::exception& e) {
+    res.ok = false;
+    res.error = e.what();
+  }
+  return res;
+}
+
+}  // namespace paramesh

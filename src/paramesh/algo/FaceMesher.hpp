@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file FaceMesher.hpp
+/// Meshes one CAD face: boundary CDT in the scaled (u,v) plane, frontal-Delaunay insertion with
+/// points placed in 3D (tangent-plane prediction, Newton re-projection on the surface), then 3D
+/// optimisation (see Optimizer.hpp). Sizes are straight 3D edge lengths against the size field.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "paramesh/geom/Geometry.hpp"
+#include "paramesh/size/SizeField.hpp"
+#include "paramesh/util/Log.hpp"
+
+namespace paramesh {
+
+/// A boundary point of a face: one node of a discretised CAD edge seen from this face.
+struct BoundaryVertex {
+  Vec2 uv;          ///< parameter on the face (unscaled)
+  Vec3 xyz;         ///< 3D position (the shared edge node)
+  int node = -1;    ///< global node id
+  bool pole = false;  ///< one of several (u,v) images of a degenerate-edge node
+};
+
+/// The closed loops bounding a face, each a cyclic list of boundary points in (u,v).
+struct FaceBoundary {
+  std::vector<std::vector<BoundaryVertex>> loops;
+  /// Extra constrained segments (pairs of (loop, index)) inside the face, e.g. a boundary-layer
+  /// front; unused for plain faces.
+  std::vector<std::array<int, 4>> extraSegments;
+};
+
+struct FaceMeshOptions {
+  int optimizePasses = 4;
+  double acceptRadius = 0.65;   ///< frontal: triangles whose metric circumradius is below are accepted
+  long maxPoints = 50000000;    ///< hard cap on inserted points (guards against runaway refinement)
+};
+
+/// Result of meshing one face. Node references: >= 0 is a global node, < 0 is new local node
+/// -(k+1) with coordinates newXyz[k], parameter newUv[k].
+struct FaceMeshResult {
+  bool ok = false;
+  std::string error;                 ///< reason when !ok
+  std::vector<Vec3> newXyz;
+  std::vector<Vec2> newUv;
+  std::vector<std::array<int, 3>> tris;  ///< oriented like S_u x S_v (caller flips reversed faces)
+  int rejectedPoints = 0;
+  int degenerateDropped = 0;
+};
+
+/// Meshes one face. Never throws on geometric trouble: returns ok = false with the reason;
+/// throws only Cancelled (through progress->poll()).
+FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, const SizeField& size,
+                        const FaceMeshOptions& opt, const Progress* progress);
+
+}  // namespace paramesh

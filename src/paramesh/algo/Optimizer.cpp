@@ -1,0 +1,337 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/algo/Optimizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "paramesh/algo/Predicates.hpp"
+
+namespace paramesh {
+namespace {
+inline int nx(int i) { return i == 2 ? 0 : i + 1; }
+inline int pv(int i) { return i == 0 ? 2 : i - 1; }
+}  // namespace
+
+double Optimizer::quality(int t) const {
+  const Triangle& tr = T_.tris[t];
+  const TriVertex &a = T_.verts[tr.v[0]], &b = T_.verts[tr.v[1]], &c = T_.verts[tr.v[2]];
+  if ((a.flags | b.flags | c.flags) & VF_POLE) {
+    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return 1.0;
+  }
+  return gamma3(a.xyz, b.xyz, c.xyz);
+}
+
+bool Optimizer::valid(int ia, int ib, int ic) const {
+  const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
+  if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
+  if ((a.flags | b.flags | c.flags) & VF_POLE) {
+    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return true;
+  }
+  const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
+  const double ln = norm(n);
+  if (!(ln > 0)) return false;
+  // the triangle must face like the surface at each vertex (allowing curvature: > ~78 degrees fails)
+  for (const TriVertex* v : {&a, &b, &c}) {
+    if (norm2(v->normal) == 0) continue;
+    if (dot(n, v->normal) < 0.2 * ln) return false;
+  }
+  return true;
+}
+
+double Optimizer::edgeRatio(int a, int b) const {
+  const TriVertex &A = T_.verts[a], &B = T_.verts[b];
+  return dist(A.xyz, B.xyz) / (0.5 * (A.h + B.h));
+}
+
+int Optimizer::swapPass() {
+  int flips = 0;
+  for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    if (T_.tris[t].dead) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Triangle& tr = T_.tris[t];
+      const int u = tr.n[i];
+      if (u < 0 || T_.isConstrained(t, i)) continue;
+      const int j = T_.edgeTo(u, t);
+      if (j < 0) continue;
+      const int a = tr.v[i], b = tr.v[nx(i)], c = tr.v[pv(i)], d = T_.tris[u].v[j];
+      const double q0 = std::min(quality(t), quality(u));
+      const TriVertex &A = T_.verts[a], &B = T_.verts[b], &Cc = T_.verts[c], &D = T_.verts[d];
+      const double q1 = std::min(gamma3(A.xyz, B.xyz, D.xyz), gamma3(A.xyz, D.xyz, Cc.xyz));
+      if (!(q1 > q0 + 1e-6)) continue;
+      if (!valid(a, b, d) || !valid(a, d, c)) continue;
+      // crease guard: do not fold the pair more than it is, beyond 10 degrees
+      const Vec3 n0 = normalized(cross(B.xyz - A.xyz, Cc.xyz - A.xyz));
+      const Vec3 n1 = normalized(cross(Cc.xyz - D.xyz, B.xyz - D.xyz));
+      const Vec3 m0 = normalized(cross(B.xyz - A.xyz, D.xyz - A.xyz));
+      const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
+      const double cold = dot(n0, n1), cnew = dot(m0, m1);
+      if (cnew < std::min(cold, 0.984807753) - 1e-9) continue;
+      if (T_.flip(t, i)) {
+        ++flips;
+        i = -1;  // triangle t changed: rescan its edges
+      }
+    }
+  }
+  return flips;
+}
+
+int Optimizer::smoothPass() {
+  int moved = 0;
+  for (int v = 0; v < (int)T_.verts.size(); ++v) {
+    TriVertex& V = T_.verts[v];
+    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) continue;
+    bool closed = true;
+    T_.ring(v, ring_, &closed);
+    if (!closed || ring_.size() < 3) continue;
+    double q0 = 1e300;
+    Vec3 target{0, 0, 0};
+    double wsum = 0;
+    for (int t : ring_) {
+      q0 = std::min(q0, quality(t));
+      const int k = T_.indexOf(t, v);
+      const Triangle& tr = T_.tris[t];
+      const Vec3 x = T_.verts[tr.v[nx(k)]].xyz, y = T_.verts[tr.v[pv(k)]].xyz;
+      const Vec3 e = y - x;
+      const double le = norm(e);
+      Vec3 dir = normalized(cross(V.normal, e));
+      const Vec3 apex = 0.5 * (x + y) + (0.8660254037844386 * le) * dir;
+      target += apex;
+      wsum += 1;
+    }
+    target = target * (1.0 / wsum);
+    const Vec2 oldUv = V.uv;
+    const Vec3 oldXyz = V.xyz;
+    bool accepted = false;
+    for (double relax : {1.0, 0.5}) {
+      Vec3 goal = oldXyz + relax * (target - oldXyz);
+      Vec2 s = oldUv;
+      Vec3 p;
+      if (!C_.stepAndProject(s, goal, p)) continue;
+      V.uv = s;
+      V.xyz = p;
+      bool ok = true;
+      double q1 = 1e300;
+      for (int t : ring_) {
+        const Triangle& tr = T_.tris[t];
+        if (!valid(tr.v[0], tr.v[1], tr.v[2])) {
+          ok = false;
+          break;
+        }
+        q1 = std::min(q1, quality(t));
+      }
+      if (ok && q1 > q0 + 1e-9) {
+        accepted = true;
+        break;
+      }
+      V.uv = oldUv;
+      V.xyz = oldXyz;
+    }
+    if (accepted) {
+      C_.fill(V);
+      ++moved;
+    }
+  }
+  return moved;
+}
+
+int Optimizer::splitPass(double longRatio) {
+  struct Cand {
+    double r;
+    int t, i;
+  };
+  std::vector<Cand> cands;
+  for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    if (T_.tris[t].dead) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Triangle& tr = T_.tris[t];
+      if (T_.isConstrained(t, i)) continue;
+      if (tr.n[i] >= 0 && tr.n[i] < t) continue;
+      const double r = edgeRatio(tr.v[nx(i)], tr.v[pv(i)]);
+      if (r > longRatio) cands.push_back({r, t, i});
+    }
+  }
+  std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.r > b.r; });
+  int splits = 0;
+  const Triangulation::FlipTest none = [](int, int) { return false; };
+  std::vector<int> touched;
+  for (const Cand& c : cands) {
+    Triangle& tr = T_.tris[c.t];
+    if (tr.dead) continue;
+    // the edge may have changed since collection: re-identify by checking the ratio again
+    const int a = tr.v[nx(c.i)], b = tr.v[pv(c.i)];
+    if (T_.isConstrained(c.t, c.i) || edgeRatio(a, b) <= longRatio) continue;
+    const Vec2 m = 0.5 * (T_.verts[a].uv + T_.verts[b].uv);
+    TriVertex nv = C_.makeVertex(m);
+    // the 3D midpoint of the chord, projected, is a better split point on curved faces
+    Vec2 s = m;
+    Vec3 p;
+    const Vec3 mid3 = 0.5 * (T_.verts[a].xyz + T_.verts[b].xyz);
+    if (!C_.planar && C_.project(mid3, s, p)) {
+      // keep it only if it stays inside the two triangles' quad (checked after insertion)
+      nv.uv = s;
+      nv.xyz = p;
+      C_.fill(nv);
+    }
+    const int v = T_.addVertex(nv);
+    touched.clear();
+    // insert on the edge topologically at uv m, then move the vertex if its projection is valid
+    const Vec2 projected = T_.verts[v].uv;
+    const Vec3 projectedXyz = T_.verts[v].xyz;
+    T_.verts[v].uv = m;
+    T_.verts[v].xyz = C_.surf.eval(C_.toParam(m));
+    T_.insert(v, c.t, c.i, none, &touched);
+    // try the projected point
+    std::vector<int> rg;
+    T_.ring(v, rg);
+    const Vec2 keepUv = T_.verts[v].uv;
+    const Vec3 keepXyz = T_.verts[v].xyz;
+    T_.verts[v].uv = projected;
+    T_.verts[v].xyz = projectedXyz;
+    bool ok = true;
+    for (int t : rg) {
+      const Triangle& r = T_.tris[t];
+      if (orient2d(T_.verts[r.v[0]].uv, T_.verts[r.v[1]].uv, T_.verts[r.v[2]].uv) <= 0) ok = false;
+    }
+    if (!ok) {
+      T_.verts[v].uv = keepUv;
+      T_.verts[v].xyz = keepXyz;
+    }
+    C_.fill(T_.verts[v]);
+    ++splits;
+  }
+  return splits;
+}
+
+bool Optimizer::collapse(int t, int i) {
+  // collapse edge i of t = (a -> b), where a = v[nx(i)] must be free; b may be anything
+  Triangle& tr = T_.tris[t];
+  const int a = tr.v[nx(i)], b = tr.v[pv(i)];
+  const int u = tr.n[i];
+  if (u < 0) return false;
+  // ring of a
+  bool closed = true;
+  std::vector<int> ra;
+  T_.ring(a, ra, &closed);
+  if (!closed) return false;
+  // link condition: common neighbours of a and b are exactly the two opposite vertices
+  std::vector<int> na, nb;
+  for (int r : ra) {
+    int k = T_.indexOf(r, a);
+    na.push_back(T_.tris[r].v[nx(k)]);
+  }
+  std::vector<int> rb;
+  bool closedB = true;
+  T_.ring(b, rb, &closedB);
+  for (int r : rb) {
+    int k = T_.indexOf(r, b);
+    nb.push_back(T_.tris[r].v[nx(k)]);
+    nb.push_back(T_.tris[r].v[pv(k)]);
+  }
+  std::sort(na.begin(), na.end());
+  std::sort(nb.begin(), nb.end());
+  nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+  int common = 0;
+  for (int x : na)
+    if (std::binary_search(nb.begin(), nb.end(), x)) ++common;
+  if (common != 2) return false;
+  // validity of the relabelled triangles
+  for (int r : ra) {
+    if (r == t || r == u) continue;
+    const Triangle& R = T_.tris[r];
+    int k = T_.indexOf(r, a);
+    int v0 = R.v[0], v1 = R.v[1], v2 = R.v[2];
+    if (k == 0) v0 = b;
+    if (k == 1) v1 = b;
+    if (k == 2) v2 = b;
+    if (!valid(v0, v1, v2)) return false;
+  }
+  // relink around the two dying triangles
+  for (int dying : {t, u}) {
+    const Triangle& D = T_.tris[dying];
+    const int ka = T_.indexOf(dying, a), kb = T_.indexOf(dying, b);
+    // edge opposite b contains a (and x); edge opposite a contains b (and x)
+    const int nA = D.n[kb];  // across (a,x): will be relabelled to (b,x)
+    const int nB = D.n[ka];  // across (x,b)
+    const bool cA = T_.isConstrained(dying, kb), cB = T_.isConstrained(dying, ka);
+    const int x = D.v[3 - ka - kb];
+    if (nA >= 0) {
+      int e = T_.edgeTo(nA, dying);
+      T_.tris[nA].n[e] = nB;
+      if (cA || cB) T_.tris[nA].cons |= (uint8_t)(1u << e);
+    }
+    if (nB >= 0) {
+      int e = T_.edgeTo(nB, dying);
+      T_.tris[nB].n[e] = nA;
+      if (cA || cB) T_.tris[nB].cons |= (uint8_t)(1u << e);
+    }
+    T_.verts[x].tri = nA >= 0 ? nA : nB;
+    T_.verts[b].tri = nA >= 0 ? nA : nB;
+  }
+  for (int r : ra) {
+    if (r == t || r == u) continue;
+    int k = T_.indexOf(r, a);
+    T_.tris[r].v[k] = b;
+    T_.verts[b].tri = r;
+  }
+  T_.tris[t].dead = true;
+  T_.tris[u].dead = true;
+  T_.verts[a].flags |= VF_DEAD;
+  T_.verts[a].tri = -1;
+  return true;
+}
+
+int Optimizer::collapsePass(double shortRatio, double maxRatio) {
+  int n = 0;
+  for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    if (T_.tris[t].dead) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Triangle& tr = T_.tris[t];
+      if (T_.isConstrained(t, i) || tr.n[i] < 0) continue;
+      int a = tr.v[nx(i)], b = tr.v[pv(i)];
+      if (edgeRatio(a, b) >= shortRatio) continue;
+      // collapse the free vertex onto the other one
+      auto freeV = [&](int v) { return !(T_.verts[v].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)); };
+      int tt = t, ii = i;
+      if (!freeV(a)) {
+        if (!freeV(b)) continue;
+        // orient so that the free vertex is v[nx(i)]: use the neighbour triangle
+        tt = tr.n[i];
+        ii = T_.edgeTo(tt, t);
+        std::swap(a, b);
+      }
+      // new edges around b must not get too long
+      std::vector<int> ra;
+      T_.ring(a, ra);
+      bool tooLong = false;
+      for (int r : ra) {
+        const Triangle& R = T_.tris[r];
+        for (int k = 0; k < 3; ++k) {
+          int w = R.v[k];
+          if (w == a || w == b) continue;
+          const TriVertex &B = T_.verts[b], &W = T_.verts[w];
+          if (dist(B.xyz, W.xyz) / (0.5 * (B.h + W.h)) > maxRatio) tooLong = true;
+        }
+      }
+      if (tooLong) continue;
+      if (collapse(tt, ii)) {
+        ++n;
+        break;
+      }
+    }
+  }
+  return n;
+}
+
+void Optimizer::run(int passes) {
+  if (passes <= 0) return;
+  splitPass(1.6);
+  collapsePass(0.55, 1.3);
+  for (int p = 0; p < passes; ++p) {
+    int f = swapPass();
+    int m = smoothPass();
+    if (f == 0 && m == 0) break;
+  }
+  swapPass();
+}
+
+}  // namespace paramesh

@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file Optimizer.hpp
+/// 3D local operators on a face triangulation and the driver loop that applies them. Every
+/// decision uses straight 3D edge lengths and 3D triangle quality; every operation is checked for
+/// validity in (u,v) (exact orientation) and in 3D (triangle normal against the surface normal).
+/// Boundary and pole vertices never move; constrained edges are never flipped, split or collapsed.
+#pragma once
+#include "paramesh/algo/SurfaceContext.hpp"
+#include "paramesh/algo/Triangulation.hpp"
+
+namespace paramesh {
+
+class Optimizer {
+ public:
+  Optimizer(Triangulation& T, const SurfaceContext& C) : T_(T), C_(C) {}
+
+  /// Flips edges while the min 3D quality of the pair improves. Returns the number of flips.
+  int swapPass();
+  /// Moves each free vertex towards the mean of the equilateral apexes of its ring (projected on
+  /// the surface) when the ring's min quality improves. Returns the number of moves.
+  int smoothPass();
+  /// Splits edges longer than `longRatio` * h (3D), longest first. Returns the number of splits.
+  int splitPass(double longRatio);
+  /// Collapses edges shorter than `shortRatio` * h when no edge longer than maxRatio * h appears.
+  int collapsePass(double shortRatio, double maxRatio);
+  /// The default schedule: split/collapse, then alternate swaps and smoothing.
+  void run(int passes);
+
+  /// 3D quality of triangle t (pole-degenerate triangles count as 1: they vanish in 3D).
+  double quality(int t) const;
+  /// True when triangle (a,b,c) is valid: counter-clockwise in (u,v) and facing like the surface.
+  bool valid(int a, int b, int c) const;
+
+ private:
+  double edgeRatio(int a, int b) const;
+  bool collapse(int t, int i);
+  Triangulation& T_;
+  const SurfaceContext& C_;
+  std::vector<int> ring_;
+};
+
+}  // namespace paramesh

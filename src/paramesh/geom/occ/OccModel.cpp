@@ -1,0 +1,364 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// OpenCASCADE backend: the only translation unit family that includes OCC headers.
+#include "paramesh/geom/occ/OccModel.hpp"
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GeomAbs_SurfaceType.hxx>
+#include <Geom2d_Curve.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Iterator.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Pnt2d.hxx>
+#include <gp_Vec.hxx>
+#include <gp_Vec2d.hxx>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <sstream>
+
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+namespace {
+
+inline Vec3 toVec(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+inline Vec3 toVec(const gp_Vec& p) { return {p.X(), p.Y(), p.Z()}; }
+
+class OccSurface final : public ISurface {
+ public:
+  explicit OccSurface(const TopoDS_Face& f) : a_(f, Standard_True) {
+    box_.u0 = a_.FirstUParameter();
+    box_.u1 = a_.LastUParameter();
+    box_.v0 = a_.FirstVParameter();
+    box_.v1 = a_.LastVParameter();
+    uPer_ = a_.IsUPeriodic() ? a_.UPeriod() : 0.0;
+    vPer_ = a_.IsVPeriodic() ? a_.VPeriod() : 0.0;
+    switch (a_.GetType()) {
+      case GeomAbs_Plane: kind_ = SurfaceKind::Plane; break;
+      case GeomAbs_Cylinder: kind_ = SurfaceKind::Cylinder; break;
+      case GeomAbs_Cone: kind_ = SurfaceKind::Cone; break;
+      case GeomAbs_Sphere: kind_ = SurfaceKind::Sphere; break;
+      case GeomAbs_Torus: kind_ = SurfaceKind::Torus; break;
+      case GeomAbs_BezierSurface: kind_ = SurfaceKind::Bezier; break;
+      case GeomAbs_BSplineSurface: kind_ = SurfaceKind::BSpline; break;
+      case GeomAbs_SurfaceOfRevolution: kind_ = SurfaceKind::Revolution; break;
+      case GeomAbs_SurfaceOfExtrusion: kind_ = SurfaceKind::Extrusion; break;
+      case GeomAbs_OffsetSurface: kind_ = SurfaceKind::Offset; break;
+      default: kind_ = SurfaceKind::Other;
+    }
+  }
+  SurfaceKind kind() const override { return kind_; }
+  Vec3 eval(Vec2 uv) const override { return toVec(a_.Value(uv.x, uv.y)); }
+  void d1(Vec2 uv, Vec3& p, Vec3& du, Vec3& dv) const override {
+    gp_Pnt P;
+    gp_Vec U, V;
+    a_.D1(uv.x, uv.y, P, U, V);
+    p = toVec(P);
+    du = toVec(U);
+    dv = toVec(V);
+  }
+  void d2(Vec2 uv, SurfaceD2& d) const override {
+    gp_Pnt P;
+    gp_Vec U, V, UU, VV, UV;
+    a_.D2(uv.x, uv.y, P, U, V, UU, VV, UV);
+    d.p = toVec(P);
+    d.du = toVec(U);
+    d.dv = toVec(V);
+    d.duu = toVec(UU);
+    d.duv = toVec(UV);
+    d.dvv = toVec(VV);
+  }
+  UVBox bounds() const override { return box_; }
+  double uPeriod() const override { return uPer_; }
+  double vPeriod() const override { return vPer_; }
+
+ private:
+  BRepAdaptor_Surface a_;
+  UVBox box_;
+  double uPer_ = 0, vPer_ = 0;
+  SurfaceKind kind_ = SurfaceKind::Other;
+};
+
+class OccCurve final : public ICurve {
+ public:
+  explicit OccCurve(const TopoDS_Edge& e) : a_(e) {
+    switch (a_.GetType()) {
+      case GeomAbs_Line: kind_ = CurveKind::Line; break;
+      case GeomAbs_Circle: kind_ = CurveKind::Circle; break;
+      case GeomAbs_Ellipse: kind_ = CurveKind::Ellipse; break;
+      case GeomAbs_BSplineCurve: kind_ = CurveKind::BSpline; break;
+      case GeomAbs_BezierCurve: kind_ = CurveKind::Bezier; break;
+      default: kind_ = CurveKind::Other;
+    }
+  }
+  CurveKind kind() const override { return kind_; }
+  Vec3 eval(double t) const override { return toVec(a_.Value(t)); }
+  void d1(double t, Vec3& p, Vec3& dt) const override {
+    gp_Pnt P;
+    gp_Vec V;
+    a_.D1(t, P, V);
+    p = toVec(P);
+    dt = toVec(V);
+  }
+  void d2(double t, Vec3& p, Vec3& d1v, Vec3& d2v) const override {
+    gp_Pnt P;
+    gp_Vec V1, V2;
+    a_.D2(t, P, V1, V2);
+    p = toVec(P);
+    d1v = toVec(V1);
+    d2v = toVec(V2);
+  }
+
+ private:
+  BRepAdaptor_Curve a_;
+  CurveKind kind_ = CurveKind::Other;
+};
+
+class OccPCurve final : public IPCurve {
+ public:
+  explicit OccPCurve(Handle(Geom2d_Curve) c) : c_(std::move(c)) {}
+  Vec2 eval(double t) const override {
+    gp_Pnt2d p = c_->Value(t);
+    return {p.X(), p.Y()};
+  }
+  void d1(double t, Vec2& p, Vec2& dt) const override {
+    gp_Pnt2d P;
+    gp_Vec2d V;
+    c_->D1(t, P, V);
+    p = {P.X(), P.Y()};
+    dt = {V.X(), V.Y()};
+  }
+
+ private:
+  Handle(Geom2d_Curve) c_;
+};
+
+struct FaceData {
+  TopoDS_Face face;  // as stored in the map (orientation of first occurrence)
+  std::vector<Wire> wires;
+  std::vector<std::vector<TopoDS_Edge>> oriented;  // oriented edge per use, as explored from face
+  int solid = -1;
+};
+
+class OccModel final : public IGeometryModel {
+ public:
+  OccModel(const TopoDS_Shape& shape, std::string source) : shape_(shape), source_(std::move(source)) {
+    TopExp::MapShapes(shape_, TopAbs_FACE, faces_);
+    TopExp::MapShapes(shape_, TopAbs_EDGE, edges_);
+    TopExp::MapShapes(shape_, TopAbs_VERTEX, vertices_);
+    TopExp::MapShapes(shape_, TopAbs_SOLID, solids_);
+    if (faces_.Extent() == 0)
+      throw InputError("the model contains no face (" + source_ + ")");
+    edgeFaces_.resize(edges_.Extent());
+    faceData_.resize(faces_.Extent());
+    for (int s = 1; s <= solids_.Extent(); ++s)
+      for (TopExp_Explorer ex(solids_(s), TopAbs_FACE); ex.More(); ex.Next()) {
+        int fi = faces_.FindIndex(ex.Current()) - 1;
+        if (fi >= 0 && faceData_[fi].solid < 0) faceData_[fi].solid = s - 1;
+      }
+    for (int f = 1; f <= faces_.Extent(); ++f) {
+      FaceData& fd = faceData_[f - 1];
+      fd.face = TopoDS::Face(faces_(f));
+      for (TopoDS_Iterator wit(fd.face); wit.More(); wit.Next()) {
+        if (wit.Value().ShapeType() != TopAbs_WIRE) continue;
+        const TopoDS_Wire& w = TopoDS::Wire(wit.Value());
+        Wire wire;
+        std::vector<TopoDS_Edge> oriented;
+        for (BRepTools_WireExplorer we(w, fd.face); we.More(); we.Next()) {
+          const TopoDS_Edge& e = we.Current();
+          int ei = edges_.FindIndex(e) - 1;
+          if (ei < 0) continue;
+          wire.uses.push_back({ei, e.Orientation() == TopAbs_REVERSED});
+          oriented.push_back(e);
+        }
+        // BRepTools_WireExplorer skips nothing on valid wires; fall back to plain order otherwise.
+        int nPlain = 0;
+        for (TopoDS_Iterator eit(w); eit.More(); eit.Next()) ++nPlain;
+        if ((int)wire.uses.size() < nPlain) {
+          wire.uses.clear();
+          oriented.clear();
+          for (TopoDS_Iterator eit(w); eit.More(); eit.Next()) {
+            if (eit.Value().ShapeType() != TopAbs_EDGE) continue;
+            const TopoDS_Edge& e = TopoDS::Edge(eit.Value());
+            int ei = edges_.FindIndex(e) - 1;
+            if (ei < 0) continue;
+            wire.uses.push_back({ei, e.Orientation() == TopAbs_REVERSED});
+            oriented.push_back(e);
+          }
+        }
+        if (wire.uses.empty()) continue;
+        for (const EdgeUse& u : wire.uses) {
+          auto& ef = edgeFaces_[u.edge];
+          if (std::find(ef.begin(), ef.end(), f - 1) == ef.end()) ef.push_back(f - 1);
+        }
+        fd.wires.push_back(std::move(wire));
+        fd.oriented.push_back(std::move(oriented));
+      }
+    }
+    Bnd_Box bb;
+    BRepBndLib::Add(shape_, bb);
+    if (!bb.IsVoid()) {
+      double x0, y0, z0, x1, y1, z1;
+      bb.Get(x0, y0, z0, x1, y1, z1);
+      box_.add({x0, y0, z0});
+      box_.add({x1, y1, z1});
+    }
+    // Bnd_Box is enlarged by tolerances; tighten with vertex positions when possible
+    Box3 vb;
+    for (int v = 1; v <= vertices_.Extent(); ++v) vb.add(toVec(BRep_Tool::Pnt(TopoDS::Vertex(vertices_(v)))));
+    (void)vb;
+  }
+
+  int numFaces() const override { return faces_.Extent(); }
+  int numEdges() const override { return edges_.Extent(); }
+  int numVertices() const override { return vertices_.Extent(); }
+  int numSolids() const override { return solids_.Extent(); }
+
+  Vec3 vertexPoint(int v) const override { return toVec(BRep_Tool::Pnt(TopoDS::Vertex(vertices_(v + 1)))); }
+  double vertexTolerance(int v) const override { return BRep_Tool::Tolerance(TopoDS::Vertex(vertices_(v + 1))); }
+
+  void edgeRange(int e, double& t0, double& t1) const override {
+    BRep_Tool::Range(edge(e), t0, t1);
+  }
+  int edgeVertex(int e, int end) const override {
+    TopoDS_Edge E = edge(e);
+    TopoDS_Vertex V = end == 0 ? TopExp::FirstVertex(E) : TopExp::LastVertex(E);
+    if (V.IsNull()) return -1;
+    return vertices_.FindIndex(V) - 1;
+  }
+  bool edgeDegenerate(int e) const override { return BRep_Tool::Degenerated(edge(e)); }
+  std::unique_ptr<ICurve> makeCurve(int e) const override {
+    if (edgeDegenerate(e)) return nullptr;
+    return std::make_unique<OccCurve>(edge(e));
+  }
+  double edgeTolerance(int e) const override { return BRep_Tool::Tolerance(edge(e)); }
+  const std::vector<int>& edgeFaces(int e) const override { return edgeFaces_[e]; }
+
+  std::unique_ptr<ISurface> makeSurface(int f) const override {
+    return std::make_unique<OccSurface>(faceData_[f].face);
+  }
+  bool faceReversed(int f) const override { return faceData_[f].face.Orientation() == TopAbs_REVERSED; }
+  const std::vector<Wire>& faceWires(int f) const override { return faceData_[f].wires; }
+  std::unique_ptr<IPCurve> makePCurve(int f, int wire, int use) const override {
+    const FaceData& fd = faceData_[f];
+    double a, b;
+    Handle(Geom2d_Curve) c = BRep_Tool::CurveOnSurface(fd.oriented[wire][use], fd.face, a, b);
+    if (c.IsNull()) return nullptr;
+    return std::make_unique<OccPCurve>(c);
+  }
+  double faceTolerance(int f) const override { return BRep_Tool::Tolerance(faceData_[f].face); }
+  int faceSolid(int f) const override { return faceData_[f].solid; }
+  Box3 boundingBox() const override { return box_; }
+  std::string source() const override { return source_; }
+
+ private:
+  TopoDS_Edge edge(int e) const { return TopoDS::Edge(edges_(e + 1).Oriented(TopAbs_FORWARD)); }
+
+  TopoDS_Shape shape_;
+  std::string source_;
+  TopTools_IndexedMapOfShape faces_, edges_, vertices_, solids_;
+  std::vector<FaceData> faceData_;
+  std::vector<std::vector<int>> edgeFaces_;
+  Box3 box_;
+};
+
+std::string lowerExt(const std::string& path) {
+  auto dot = path.find_last_of('.');
+  if (dot == std::string::npos) return "";
+  std::string e = path.substr(dot + 1);
+  for (char& c : e) c = (char)std::tolower((unsigned char)c);
+  return e;
+}
+
+TopoDS_Shape readShape(const std::string& path) {
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw InputError("cannot open '" + path + "'");
+  }
+  const std::string ext = lowerExt(path);
+  TopoDS_Shape shape;
+  try {
+    if (ext == "step" || ext == "stp") {
+      STEPControl_Reader r;
+      if (r.ReadFile(path.c_str()) != IFSelect_RetDone)
+        throw InputError("'" + path + "' is not a readable STEP file");
+      int n = r.NbRootsForTransfer();
+      for (int i = 1; i <= n; ++i) r.TransferRoot(i);
+      shape = r.OneShape();
+    } else if (ext == "iges" || ext == "igs") {
+      IGESControl_Reader r;
+      if (r.ReadFile(path.c_str()) != IFSelect_RetDone)
+        throw InputError("'" + path + "' is not a readable IGES file");
+      r.ClearShapes();
+      r.TransferRoots();
+      shape = r.OneShape();
+    } else if (ext == "brep" || ext == "brp") {
+      BRep_Builder b;
+      if (!BRepTools::Read(shape, path.c_str(), b))
+        throw InputError("'" + path + "' is not a readable BREP file");
+    } else {
+      throw InputError("unknown CAD format '." + ext + "' of '" + path +
+                       "' (expected .step/.stp, .iges/.igs or .brep/.brp)");
+    }
+  } catch (const Standard_Failure& e) {
+    throw InputError("OpenCASCADE could not read '" + path + "': " + e.GetMessageString());
+  }
+  if (shape.IsNull()) throw InputError("'" + path + "' contains no shape");
+  return shape;
+}
+
+}  // namespace
+
+std::unique_ptr<IGeometryModel> loadOccModel(const std::string& path) {
+  TopoDS_Shape s = readShape(path);
+  try {
+    return std::make_unique<OccModel>(s, path);
+  } catch (const Standard_Failure& e) {
+    throw InputError("OpenCASCADE failed on '" + path + "': " + e.GetMessageString());
+  }
+}
+
+std::unique_ptr<IGeometryModel> loadOccModelFromBrepString(const std::string& brep) {
+  TopoDS_Shape shape;
+  try {
+    std::istringstream in(brep);
+    BRep_Builder b;
+    BRepTools::Read(shape, in, b);
+  } catch (const Standard_Failure& e) {
+    throw InputError(std::string("not a valid BREP string: ") + e.GetMessageString());
+  }
+  if (shape.IsNull()) throw InputError("not a valid BREP string (no shape could be read)");
+  try {
+    return std::make_unique<OccModel>(shape, "BREP string");
+  } catch (const Standard_Failure& e) {
+    throw InputError(std::string("OpenCASCADE failed on the BREP string: ") + e.GetMessageString());
+  }
+}
+
+std::string occFileToBrepString(const std::string& path) {
+  TopoDS_Shape s = readShape(path);
+  std::ostringstream out;
+  BRepTools::Write(s, out);
+  return out.str();
+}
+
+}  // namespace paramesh

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file MeshWriters.hpp
+/// Writers of a SurfaceMesh to mesh files: Gmsh MSH 4.1, VTK XML (.vtu), STL and Abaqus/CalculiX
+/// (.inp). Every writer writes to a temporary sibling file and renames it over the target, so a
+/// failed write never leaves a half-written file; failures throw paramesh::Error naming the path.
+/// Text output is locale-independent.
+#pragma once
+#include <fstream>
+#include <string>
+#include <string_view>
+
+#include "paramesh/mesh/SurfaceMesh.hpp"
+
+namespace paramesh {
+
+/// Gmsh MSH 4.1 ASCII. One point entity per CAD vertex, one curve per CAD edge and one surface
+/// per CAD face, each tagged with its 1-based CAD number (so meshio's "gmsh:geometrical" and
+/// Gmsh's elementary tags are the FreeCAD Face<i>/Edge<i>/Vertex<i> numbers). Node tags are
+/// node index + 1; element tags run from 1 in file order: points (type 15), segments (1 / line3
+/// 8), then per face its triangles (2 / triangle6 9) and quads (3 / quad8 16).
+void writeMsh41(const std::string& path, const SurfaceMesh& m);
+
+/// VTK XML UnstructuredGrid (ASCII): triangles (VTK 5, quadratic 22) then quads (9, quadratic
+/// 23). Cell data "face" (Int32, CAD face number) and "quality" (Float64, see triangleGamma /
+/// quadQuality); point data "entity_dim" (Int32, 0/1/2) and "entity" (Int32, CAD number).
+/// Segments are not written.
+void writeVtu(const std::string& path, const SurfaceMesh& m);
+
+/// STL, binary (default) or ASCII. Quads are split into two triangles along the shorter diagonal;
+/// order-2 elements are written through their corner nodes only. Facet normal = normalised
+/// (b-a)x(c-a), (0,0,0) for a degenerate triangle.
+void writeStl(const std::string& path, const SurfaceMesh& m, bool binary = true);
+
+/// Abaqus / CalculiX input: *NODE, then per CAD face its *ELEMENT blocks (S3 / S6 triangles,
+/// S4 / S8 quads; order-2 node order: corners then mid-nodes n12, n23, n31 (n34, n41)), then one
+/// *ELSET, ELSET=Face<i> per CAD face. Segments are not written.
+void writeInp(const std::string& path, const SurfaceMesh& m);
+
+/// Dispatches on the lower-case extension: .msh, .vtu, .stl (binary) or .inp; anything else
+/// throws paramesh::Error.
+void writeMesh(const std::string& path, const SurfaceMesh& m);
+
+namespace io {
+
+/// Radius-ratio quality of a triangle, 2*r_in/r_circ: 1 for equilateral, 0 for degenerate.
+double triangleGamma(const Vec3& a, const Vec3& b, const Vec3& c);
+/// Quality of a quad (a,b,c,d): the smallest corner sine, each signed against the quad's mean
+/// normal: 1 for a rectangle, 0 for a degenerate corner, negative when non-convex/folded.
+/// Independent of the aspect ratio (boundary-layer quads are stretched on purpose).
+double quadQuality(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// Empty when m is consistent, else a short description of the first problem found (array sizes
+/// that disagree, an element referring to a missing node, an invalid order or NodeKind).
+std::string findMeshProblem(const SurfaceMesh& m);
+/// Throws paramesh::Error("cannot write '<path>': invalid mesh (...)") when findMeshProblem
+/// reports a problem. Called by every writer before it opens its file.
+void checkMeshForWriting(const std::string& path, const SurfaceMesh& m);
+
+/// A file written (in binary mode) through a temporary sibling "<path>.<N>.tmp" that commit()
+/// renames over path.
+/// Destroying an uncommitted AtomicFile removes the temporary file. Errors throw paramesh::Error
+/// naming path.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  /// Buffered write.
+  void write(std::string_view data);
+  void write(const void* data, std::size_t n) {
+    write(std::string_view(static_cast<const char*>(data), n));
+  }
+  /// Flushes, closes, checks for errors and renames the temporary file over the target.
+  void commit();
+  const std::string& path() const { return path_; }
+
+ private:
+  void flushBuffer();
+  [[noreturn]] void fail(const std::string& what);
+
+  std::string path_, tmp_;
+  std::ofstream out_;
+  std::string buf_;
+  bool committed_ = false;
+};
+
+}  // namespace io
+}  // namespace paramesh

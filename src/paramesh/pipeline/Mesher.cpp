@@ -1,0 +1,572 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/pipeline/Mesher.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "paramesh/algo/FaceMesher.hpp"
+#include "paramesh/model/EdgeDiscretizer.hpp"
+#include "paramesh/model/FaceDomain.hpp"
+#include "paramesh/size/SizeField.hpp"
+#include "paramesh/size/Sources.hpp"
+#include "paramesh/util/Error.hpp"
+#include "paramesh/util/Parallel.hpp"
+#include "paramesh/util/Timer.hpp"
+
+namespace paramesh {
+
+const char* toString(RunStatus s) {
+  switch (s) {
+    case RunStatus::Ok: return "ok";
+    case RunStatus::Degraded: return "degraded";
+    default: return "failed";
+  }
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct EdgeMesh {
+  std::vector<double> t;
+  std::vector<int> nodes;  // global ids, size t.size()
+  bool degenerate = false;
+};
+
+std::string fmt(double x) {
+  std::ostringstream s;
+  s.precision(6);
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+struct Mesher::Impl {
+  const IGeometryModel& model;
+  MeshParams p;
+  Logger log;
+  Progress progress;
+  Report report;
+  SurfaceMesh mesh;
+  SizeField field;
+  std::vector<EdgeMesh> edges;
+  std::vector<int> vertexNode;
+  int threads = 1;
+
+  Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
+      : model(m), p(std::move(params)), log(std::move(sink)), progress(std::move(cb)) {}
+
+  void stage(const char* name, double seconds) { report.stageSeconds.emplace_back(name, seconds); }
+
+  // ---------------------------------------------------------------- parameters
+  void resolveParams() {
+    p.validate();
+    const double diag = model.boundingBox().diagonal();
+    if (!(diag > 0)) throw InputError("the model has zero extent");
+    if (p.size == 0) p.size = diag / 50.0;
+    if (p.maxSize == 0) p.maxSize = p.size;
+    if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / 100.0;
+    if (p.minSize > p.maxSize) throw ParameterError("min_size (" + fmt(p.minSize) + ") is larger than max_size (" + fmt(p.maxSize) + ")");
+    if (p.size < diag * 1e-6)
+      throw ParameterError("size " + fmt(p.size) + " is below 1e-6 of the model diagonal (" + fmt(diag) +
+                           "): the mesh would have more than 10^12 elements");
+    auto checkRange = [&](int n, int max, const std::string& what, const std::string& ctx) {
+      if (n < 1 || n > max)
+        throw ParameterError(ctx + ": " + what + std::to_string(n) + " does not exist (the model has " +
+                             std::to_string(max) + " " + what + "s)");
+    };
+    for (size_t i = 0; i < p.localSizes.size(); ++i) {
+      const LocalSize& l = p.localSizes[i];
+      for (int e : l.entities) {
+        if (l.kind == LocalSize::Kind::Face) checkRange(e, model.numFaces(), "Face", "local size #" + std::to_string(i + 1));
+        if (l.kind == LocalSize::Kind::Edge) checkRange(e, model.numEdges(), "Edge", "local size #" + std::to_string(i + 1));
+        if (l.kind == LocalSize::Kind::Vertex) checkRange(e, model.numVertices(), "Vertex", "local size #" + std::to_string(i + 1));
+      }
+    }
+    for (size_t i = 0; i < p.boundaryLayers.size(); ++i)
+      for (int e : p.boundaryLayers[i].edges)
+        checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
+    threads = resolveThreads(p.threads);
+    report.size = p.size;
+    report.minSize = p.minSize;
+    report.maxSize = p.maxSize;
+    report.curvatureAngle = p.curvatureAngle;
+    report.grading = p.grading;
+    report.threads = threads;
+    report.source = model.source();
+    report.cadFaces = model.numFaces();
+    report.cadEdges = model.numEdges();
+    report.cadVertices = model.numVertices();
+    report.cadSolids = model.numSolids();
+    mesh.numFaces = model.numFaces();
+    mesh.numEdges = model.numEdges();
+    mesh.numVertices = model.numVertices();
+  }
+
+  // ---------------------------------------------------------------- size field
+  void buildSizeField() {
+    Timer tm;
+    const double hmax = std::min(p.size, p.maxSize);
+    field = SizeField(hmax, p.grading);
+    std::vector<std::vector<SizeSource>> per;
+    if (p.curvatureAngle > 0) {
+      const double ang = p.curvatureAngle * kPi / 180.0;
+      const int nf = model.numFaces(), ne = model.numEdges();
+      per.resize(nf + ne);
+      parallelFor(nf + ne, threads, [&](int i) {
+        progress.poll();
+        try {
+          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax)
+                          : edgeCurvatureSources(model, i - nf, ang, p.minSize, hmax);
+        } catch (const Cancelled&) {
+          throw;
+        } catch (...) {
+          log.warn(std::string("curvature sampling failed on ") + (i < nf ? "Face" : "Edge") +
+                   std::to_string(i < nf ? i + 1 : i - nf + 1));
+        }
+      });
+    }
+    for (const LocalSize& l : p.localSizes) per.push_back(localSizeSources(model, l));
+    for (auto& v : per)
+      for (auto& s : v) field.addSource(s.p, std::max(s.h, p.minSize));
+    field.build();
+    stage("size_field", tm.seconds());
+  }
+
+  // ---------------------------------------------------------------- edges
+  void discretizeEdges(bool final) {
+    const int ne = model.numEdges();
+    std::vector<std::vector<double>> ts(ne);
+    std::vector<char> degen(ne, 0);
+    parallelFor(ne, threads, [&](int e) {
+      progress.poll();
+      double t0, t1;
+      model.edgeRange(e, t0, t1);
+      if (model.edgeDegenerate(e)) {
+        degen[e] = 1;
+        ts[e] = {t0, t1};
+        return;
+      }
+      auto c = model.makeCurve(e);
+      CurveSampling cs = sampleCurve(*c, t0, t1, &field);
+      const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+      const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
+      ts[e] = discretizeCurve(cs, field, closed ? 3 : 1, kPi / 3.0);
+    });
+    // two edges joining the same two vertices must not both be a single chord
+    std::map<std::pair<int, int>, std::vector<int>> byEnds;
+    for (int e = 0; e < ne; ++e) {
+      if (degen[e] || ts[e].size() != 2) continue;
+      int a = model.edgeVertex(e, 0), b = model.edgeVertex(e, 1);
+      if (a < 0 || b < 0) continue;
+      byEnds[{std::min(a, b), std::max(a, b)}].push_back(e);
+    }
+    for (auto& kv : byEnds) {
+      if (kv.second.size() < 2) continue;
+      for (size_t k = 1; k < kv.second.size(); ++k) {
+        int e = kv.second[k];
+        ts[e] = {ts[e][0], 0.5 * (ts[e][0] + ts[e][1]), ts[e][1]};
+      }
+    }
+    // also: edges sharing both vertices with an edge of 2+ segments are fine. Build nodes.
+    if (!final) {
+      // small-feature sources: where segments are much shorter than the field says
+      for (int e = 0; e < ne; ++e) {
+        if (degen[e]) continue;
+        auto c = model.makeCurve(e);
+        std::vector<Vec3> P;
+        for (double t : ts[e]) P.push_back(c->eval(t));
+        for (size_t i = 0; i < P.size(); ++i) {
+          double l = 1e300;
+          if (i > 0) l = std::min(l, dist(P[i], P[i - 1]));
+          if (i + 1 < P.size()) l = std::min(l, dist(P[i], P[i + 1]));
+          if (l < 0.6 * field.size(P[i])) field.addSource(P[i], std::max(l, p.minSize));
+        }
+      }
+      field.build();
+      return;
+    }
+    vertexNode.assign(model.numVertices(), -1);
+    edges.assign(ne, EdgeMesh());
+    auto nodeOfVertex = [&](int v) {
+      if (vertexNode[v] < 0) vertexNode[v] = mesh.addNode(model.vertexPoint(v), NodeKind::Vertex, v + 1);
+      return vertexNode[v];
+    };
+    for (int e = 0; e < ne; ++e) {
+      const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+      if (v0 >= 0) nodeOfVertex(v0);
+      if (v1 >= 0) nodeOfVertex(v1);
+    }
+    for (int e = 0; e < ne; ++e) {
+      EdgeMesh& em = edges[e];
+      em.t = ts[e];
+      em.degenerate = degen[e];
+      const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+      std::unique_ptr<ICurve> c = em.degenerate ? nullptr : model.makeCurve(e);
+      const size_t n = em.t.size();
+      em.nodes.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        if (i == 0 && v0 >= 0) {
+          em.nodes[i] = vertexNode[v0];
+        } else if (i + 1 == n && v1 >= 0) {
+          em.nodes[i] = vertexNode[v1];
+        } else if (em.degenerate) {
+          em.nodes[i] = v0 >= 0 ? vertexNode[v0] : (v1 >= 0 ? vertexNode[v1] : -1);
+        } else {
+          em.nodes[i] = mesh.addNode(c->eval(em.t[i]), NodeKind::Edge, e + 1, {em.t[i], 0});
+        }
+      }
+      if (!em.degenerate)
+        for (size_t i = 0; i + 1 < n; ++i) {
+          mesh.segments.push_back({em.nodes[i], em.nodes[i + 1]});
+          mesh.segmentEdge.push_back(e + 1);
+        }
+    }
+  }
+
+  // ---------------------------------------------------------------- face boundaries
+  bool buildBoundary(int f, const ISurface& s, FaceBoundary& fb, std::string& why) const {
+    const auto& wires = model.faceWires(f);
+    const double up = s.uPeriod(), vp = s.vPeriod();
+    const UVBox box = s.bounds();
+    const double span = std::max(box.u1 - box.u0, box.v1 - box.v0);
+    std::set<int> poleNodes;
+    for (const Wire& w : wires)
+      for (const EdgeUse& u : w.uses)
+        if (edges[u.edge].degenerate)
+          for (int nd : edges[u.edge].nodes) poleNodes.insert(nd);
+    for (size_t w = 0; w < wires.size(); ++w) {
+      std::vector<BoundaryVertex> loop;
+      const Wire& W = wires[w];
+      for (size_t k = 0; k < W.uses.size(); ++k) {
+        const EdgeUse& use = W.uses[k];
+        const EdgeMesh& em = edges[use.edge];
+        auto pc = model.makePCurve(f, (int)w, (int)k);
+        std::vector<BoundaryVertex> pts;
+        if (em.degenerate) {
+          if (!pc) {
+            why = "degenerate Edge" + std::to_string(use.edge + 1) + " has no curve on the face";
+            return false;
+          }
+          Vec2 a = pc->eval(em.t.front()), b = pc->eval(em.t.back());
+          if (use.reversed) std::swap(a, b);
+          const int node = em.nodes.front();
+          const Vec3 pole = mesh.nodes[node];
+          const int n = degenerateSegments(s, a, b, pole);
+          for (int i = 0; i <= n; ++i) {
+            BoundaryVertex bv;
+            bv.uv = a + ((double)i / n) * (b - a);
+            bv.xyz = pole;
+            bv.node = node;
+            bv.pole = true;
+            pts.push_back(bv);
+          }
+        } else {
+          const size_t n = em.t.size();
+          for (size_t i = 0; i < n; ++i) {
+            const size_t j = use.reversed ? n - 1 - i : i;
+            BoundaryVertex bv;
+            bv.node = em.nodes[j];
+            bv.xyz = mesh.nodes[bv.node];
+            Vec2 uv;
+            if (pc) {
+              uv = pc->eval(em.t[j]);
+            } else {
+              uv = pts.empty() ? (loop.empty() ? Vec2{0.5 * (box.u0 + box.u1), 0.5 * (box.v0 + box.v1)} : loop.back().uv)
+                               : pts.back().uv;
+              if (pts.empty() && loop.empty()) s.projectGlobal(bv.xyz, uv);
+            }
+            // make the (u,v) consistent with the shared 3D node (tolerant CAD, non-same-parameter)
+            Vec3 sp = s.eval(uv);
+            const double tol = 1e-7 * (1 + norm(bv.xyz)) + 1e-3 * field.size(bv.xyz) * 1e-2;
+            if (dist(sp, bv.xyz) > tol) {
+              Vec2 q = uv;
+              Vec3 out;
+              if (s.project(bv.xyz, q, &out, 0.02) && dist(out, bv.xyz) <= dist(sp, bv.xyz)) uv = q;
+            }
+            bv.uv = uv;
+            bv.pole = poleNodes.count(bv.node) > 0;
+            pts.push_back(bv);
+          }
+        }
+        // periodic continuity with the previous use
+        if (!loop.empty() && !pts.empty()) {
+          const Vec2 sh = unwrapNear(pts.front().uv, loop.back().uv, up, vp) - pts.front().uv;
+          for (auto& q : pts) q.uv = q.uv + sh;
+        }
+        for (size_t i = 0; i < pts.size(); ++i) {
+          if (!loop.empty() && i == 0) {
+            // shared point with the previous use
+            if (loop.back().node != pts[0].node) {
+              why = "wire " + std::to_string(w + 1) + " is not connected at Edge" + std::to_string(use.edge + 1);
+              return false;
+            }
+            continue;
+          }
+          loop.push_back(pts[i]);
+        }
+      }
+      if (loop.size() < 2) continue;
+      // closure
+      if (loop.front().node != loop.back().node) {
+        why = "wire " + std::to_string(w + 1) + " is not closed";
+        return false;
+      }
+      const Vec2 endUv = loop.back().uv, startUv = loop.front().uv;
+      if (norm(endUv - startUv) > 1e-6 * span + 1e-12) {
+        const Vec2 wrapped = unwrapNear(endUv, startUv, up, vp);
+        if (norm(wrapped - startUv) <= 1e-6 * span + 1e-12)
+          why = "wire " + std::to_string(w + 1) + " winds around the periodic surface (no seam): not supported";
+        else
+          why = "wire " + std::to_string(w + 1) + " does not close in (u,v) (gap " + fmt(norm(endUv - startUv)) + ")";
+        // tolerate small gaps (pcurve tolerance) relative to the boundary spacing
+        double minSeg = 1e300;
+        for (size_t i = 1; i < loop.size(); ++i) minSeg = std::min(minSeg, norm(loop[i].uv - loop[i - 1].uv));
+        if (norm(endUv - startUv) > 0.25 * minSeg) return false;
+        why.clear();
+      }
+      loop.pop_back();
+      // drop consecutive duplicates in (u,v)
+      std::vector<BoundaryVertex> clean;
+      for (auto& bv : loop) {
+        if (!clean.empty() && clean.back().uv.x == bv.uv.x && clean.back().uv.y == bv.uv.y) continue;
+        clean.push_back(bv);
+      }
+      if (clean.size() >= 2 && clean.front().uv.x == clean.back().uv.x && clean.front().uv.y == clean.back().uv.y)
+        clean.pop_back();
+      if (clean.size() < 3) {
+        why = "wire " + std::to_string(w + 1) + " has fewer than 3 distinct points";
+        return false;
+      }
+      fb.loops.push_back(std::move(clean));
+    }
+    if (fb.loops.empty()) {
+      why = "the face has no wire";
+      return false;
+    }
+    return true;
+  }
+
+  /// Number of (u,v) segments for a degenerate edge a->b: about the length of the first ring of
+  /// elements around the pole divided by the local size.
+  int degenerateSegments(const ISurface& s, Vec2 a, Vec2 b, Vec3 pole) const {
+    const double h = field.size(pole);
+    const UVBox box = s.bounds();
+    const Vec2 d = b - a;
+    const double ld = norm(d);
+    if (!(ld > 0)) return 1;
+    Vec2 nrm{-d.y / ld, d.x / ld};
+    const Vec2 mid = 0.5 * (a + b);
+    const Vec2 centre{0.5 * (box.u0 + box.u1), 0.5 * (box.v0 + box.v1)};
+    if (dot(centre - mid, nrm) < 0) nrm = -1.0 * nrm;
+    const double spanN = std::fabs(nrm.x) * (box.u1 - box.u0) + std::fabs(nrm.y) * (box.v1 - box.v0);
+    double off = 1e-6 * spanN;
+    for (int it = 0; it < 60; ++it) {
+      if (dist(s.eval(mid + off * nrm), pole) >= h || off > 0.5 * spanN) break;
+      off *= 1.5;
+    }
+    double L = 0;
+    Vec3 prev = s.eval(a + off * nrm);
+    for (int i = 1; i <= 32; ++i) {
+      Vec3 q = s.eval(a + (i / 32.0) * d + off * nrm);
+      L += dist(prev, q);
+      prev = q;
+    }
+    return std::clamp((int)std::lround(L / h), 1, 512);
+  }
+
+  // ---------------------------------------------------------------- faces
+  void meshFaces() {
+    Timer tm;
+    const int nf = model.numFaces();
+    std::vector<FaceMeshResult> results(nf);
+    report.faces.assign(nf, FaceReport());
+    std::atomic<int> done{0};
+    // biggest faces first for load balance: estimate by boundary node count
+    std::vector<int> order(nf);
+    std::iota(order.begin(), order.end(), 0);
+    std::vector<size_t> weight(nf, 0);
+    for (int f = 0; f < nf; ++f)
+      for (const Wire& w : model.faceWires(f))
+        for (const EdgeUse& u : w.uses) weight[f] += edges[u.edge].t.size();
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight[a] > weight[b]; });
+    FaceMeshOptions fo;
+    fo.optimizePasses = p.optimizePasses;
+    parallelFor(nf, threads, [&](int f) {
+      progress.poll();
+      Timer ft;
+      FaceReport& fr = report.faces[f];
+      fr.face = f + 1;
+      try {
+        auto s = model.makeSurface(f);
+        fr.surface = toString(s->kind());
+        FaceBoundary fb;
+        std::string why;
+        if (!buildBoundary(f, *s, fb, why)) {
+          fr.ok = false;
+          fr.error = why;
+        } else {
+          results[f] = meshFace(*s, fb, field, fo, &progress);
+          fr.ok = results[f].ok;
+          fr.error = results[f].error;
+          fr.rejectedPoints = results[f].rejectedPoints;
+        }
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const std::exception& e) {
+        fr.ok = false;
+        fr.error = e.what();
+      } catch (...) {
+        fr.ok = false;
+        fr.error = "geometry kernel exception";
+      }
+      fr.seconds = ft.seconds();
+      const int k = ++done;
+      progress.report(0.15 + 0.8 * k / std::max(nf, 1), "faces");
+    }, &order);
+    stage("faces", tm.seconds());
+    // assemble in face order (deterministic)
+    Timer ta;
+    for (int f = 0; f < nf; ++f) {
+      FaceMeshResult& r = results[f];
+      FaceReport& fr = report.faces[f];
+      if (!fr.ok) {
+        log.warn("Face" + std::to_string(f + 1) + " failed: " + fr.error);
+        continue;
+      }
+      const int base = (int)mesh.nodes.size();
+      for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
+      const bool rev = model.faceReversed(f);
+      for (auto t : r.tris) {
+        for (int& v : t)
+          if (v < 0) v = base + (-v - 1);
+        if (rev) std::swap(t[1], t[2]);
+        mesh.triangles.push_back(t);
+        mesh.triangleFace.push_back(f + 1);
+      }
+      fr.triangles = (int)r.tris.size();
+      fr.nodes = (int)r.newXyz.size();
+    }
+    stage("assemble", ta.seconds());
+  }
+
+  void finish() {
+    Timer tq;
+    report.nodes = (int)mesh.nodes.size();
+    report.triangles = (int)mesh.triangles.size();
+    report.quads = (int)mesh.quads.size();
+    report.sizeSources = field.numSources();
+    report.quality = summarizeQuality(mesh, [this](Vec3 x) { return field.size(x); });
+    std::vector<std::string> failed;
+    for (const FaceReport& fr : report.faces)
+      if (!fr.ok) failed.push_back("Face" + std::to_string(fr.face) + ": " + fr.error);
+    if (failed.empty()) {
+      report.status = RunStatus::Ok;
+      report.message = "meshed " + std::to_string(report.faces.size()) + " faces";
+    } else {
+      report.status = failed.size() == report.faces.size() ? RunStatus::Failed : RunStatus::Degraded;
+      std::string m = std::to_string(failed.size()) + " of " + std::to_string(report.faces.size()) + " faces failed: ";
+      for (size_t i = 0; i < failed.size() && i < 5; ++i) m += (i ? "; " : "") + failed[i];
+      if (failed.size() > 5) m += "; ...";
+      report.message = m;
+    }
+    stage("quality", tq.seconds());
+  }
+};
+
+Mesher::Mesher(const IGeometryModel& model, MeshParams params, LogSink sink, ProgressCallback progress)
+    : d_(std::make_unique<Impl>(model, std::move(params), std::move(sink), std::move(progress))) {
+  d_->p.validate();
+}
+Mesher::~Mesher() = default;
+void Mesher::cancel() { d_->progress.cancel(); }
+
+MeshOutput Mesher::run() {
+  Impl& d = *d_;
+  Timer total;
+  d.resolveParams();
+  d.progress.report(0.0, "size field");
+  d.buildSizeField();
+  d.progress.report(0.05, "edges");
+  {
+    Timer te;
+    d.discretizeEdges(false);
+    d.discretizeEdges(true);
+    d.stage("edges", te.seconds());
+  }
+  d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +
+             std::to_string(d.field.numSources()) + " size sources");
+  d.progress.report(0.15, "faces");
+  d.meshFaces();
+  d.finish();
+  d.stage("total", total.seconds());
+  d.progress.report(1.0, "done");
+  MeshOutput out;
+  out.mesh = std::move(d.mesh);
+  out.report = std::move(d.report);
+  return out;
+}
+
+QualitySummary summarizeQuality(const SurfaceMesh& m, const std::function<double(Vec3)>& h) {
+  QualitySummary q;
+  const size_t nt = m.triangles.size();
+  if (nt == 0) return q;
+  double gsum = 0, gmin = 1e300, amin = 1e300, amax = 0;
+  size_t below30 = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3 a = m.nodes[t[0]], b = m.nodes[t[1]], c = m.nodes[t[2]];
+    const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
+    const double ar2 = norm(cross(b - a, c - a));
+    const double s = la + lb + lc;
+    const double g = (s * la * lb * lc > 0) ? 4.0 * ar2 * ar2 / (s * la * lb * lc) : 0.0;
+    gsum += g;
+    gmin = std::min(gmin, g);
+    auto ang = [](double x, double y, double z) {  // angle opposite x
+      const double c = (y * y + z * z - x * x) / (2 * y * z);
+      return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+    };
+    double A = ang(la, lb, lc), B = ang(lb, lc, la), C = 180.0 - A - B;
+    const double mn = std::min({A, B, C}), mx = std::max({A, B, C});
+    amin = std::min(amin, mn);
+    amax = std::max(amax, mx);
+    if (mn < 30) ++below30;
+  }
+  q.gammaMean = gsum / nt;
+  q.gammaMin = gmin;
+  q.angleMin = amin;
+  q.angleMax = amax;
+  q.pctAngleBelow30 = 100.0 * below30 / nt;
+  // unique edges
+  std::vector<std::pair<int, int>> E;
+  E.reserve(nt * 3);
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      int a = t[k], b = t[(k + 1) % 3];
+      E.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  for (const auto& t : m.quads)
+    for (int k = 0; k < 4; ++k) {
+      int a = t[k], b = t[(k + 1) % 4];
+      E.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(E.begin(), E.end());
+  E.erase(std::unique(E.begin(), E.end()), E.end());
+  size_t ok = 0;
+  double rsum = 0;
+  for (auto& e : E) {
+    const Vec3 a = m.nodes[e.first], b = m.nodes[e.second];
+    const double r = dist(a, b) / h(0.5 * (a + b));
+    rsum += r;
+    if (r >= 1 / std::sqrt(2.0) && r <= std::sqrt(2.0)) ++ok;
+  }
+  q.pctLenInSqrt2 = E.empty() ? 0 : 100.0 * ok / E.size();
+  q.lenRatioMean = E.empty() ? 0 : rsum / E.size();
+  return q;
+}
+
+}  // namespace paramesh

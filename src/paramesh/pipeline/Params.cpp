@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/pipeline/Params.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+
+namespace {
+bool finite(double x) { return std::isfinite(x); }
+std::string num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+}  // namespace
+
+void MeshParams::validate() const {
+  if (!finite(size) || size < 0) throw ParameterError("size must be a positive length (got " + num(size) + ")");
+  if (!finite(minSize) || minSize < 0)
+    throw ParameterError("min_size must be >= 0 (got " + num(minSize) + ")");
+  if (!finite(maxSize) || maxSize < 0)
+    throw ParameterError("max_size must be >= 0 (got " + num(maxSize) + ")");
+  if (minSize > 0 && maxSize > 0 && minSize > maxSize)
+    throw ParameterError("min_size (" + num(minSize) + ") is larger than max_size (" + num(maxSize) + ")");
+  if (!finite(curvatureAngle) || curvatureAngle < 0 || curvatureAngle >= 180)
+    throw ParameterError("curvature_angle must be in [0, 180) degrees (got " + num(curvatureAngle) + ")");
+  if (curvatureAngle > 0 && curvatureAngle < 0.5)
+    throw ParameterError("curvature_angle below 0.5 degrees would need an unbounded number of elements (got " +
+                         num(curvatureAngle) + ")");
+  if (!finite(grading) || grading <= 1.0 || grading > 10)
+    throw ParameterError("grading must be in (1, 10] (got " + num(grading) + ")");
+  if (threads < 0 || threads > 1024) throw ParameterError("threads must be in [0, 1024] (got " + std::to_string(threads) + ")");
+  if (order != 1 && order != 2) throw ParameterError("order must be 1 or 2 (got " + std::to_string(order) + ")");
+  if (optimizePasses < 0 || optimizePasses > 100)
+    throw ParameterError("optimize_passes must be in [0, 100] (got " + std::to_string(optimizePasses) + ")");
+  for (size_t i = 0; i < localSizes.size(); ++i) {
+    const LocalSize& l = localSizes[i];
+    if (!finite(l.size) || l.size <= 0)
+      throw ParameterError("local size #" + std::to_string(i + 1) + " must be > 0 (got " + num(l.size) + ")");
+    if (l.entities.empty()) throw ParameterError("local size #" + std::to_string(i + 1) + " names no entity");
+    for (int e : l.entities)
+      if (e < 1) throw ParameterError("local size #" + std::to_string(i + 1) + ": entity numbers start at 1 (got " + std::to_string(e) + ")");
+  }
+  for (size_t i = 0; i < boundaryLayers.size(); ++i) {
+    const BoundaryLayerSpec& b = boundaryLayers[i];
+    const std::string id = "boundary layer #" + std::to_string(i + 1);
+    if (b.edges.empty()) throw ParameterError(id + ": no edge given");
+    for (int e : b.edges)
+      if (e < 1) throw ParameterError(id + ": edge numbers start at 1 (got " + std::to_string(e) + ")");
+    if (!finite(b.firstHeight) || b.firstHeight <= 0)
+      throw ParameterError(id + ": first_height must be > 0 (got " + num(b.firstHeight) + ")");
+    if (!finite(b.growth) || b.growth < 1.0 || b.growth > 5.0)
+      throw ParameterError(id + ": growth must be in [1, 5] (got " + num(b.growth) + ")");
+    if (b.layers < 0 || b.layers > 1000) throw ParameterError(id + ": layers must be in [1, 1000] (got " + std::to_string(b.layers) + ")");
+    if (!finite(b.thickness) || b.thickness < 0) throw ParameterError(id + ": thickness must be >= 0 (got " + num(b.thickness) + ")");
+    if (b.layers == 0 && b.thickness == 0) throw ParameterError(id + ": give the number of layers or the thickness");
+    if (b.layers > 0 && b.thickness > 0) {
+      // consistent pair only: thickness must match h0*(r^N-1)/(r-1) within 1%
+      double t = b.growth == 1.0 ? b.firstHeight * b.layers
+                                 : b.firstHeight * (std::pow(b.growth, b.layers) - 1) / (b.growth - 1);
+      if (std::fabs(t - b.thickness) > 0.01 * b.thickness)
+        throw ParameterError(id + ": layers, growth, first_height and thickness disagree (the layers give thickness " +
+                             num(t) + ", not " + num(b.thickness) + "); give either layers or thickness");
+    }
+    if (!finite(b.maxAspect) || b.maxAspect < 0) throw ParameterError(id + ": max_aspect must be >= 0");
+  }
+}
+
+}  // namespace paramesh

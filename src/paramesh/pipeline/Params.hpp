@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file Params.hpp
+/// Meshing parameters: one plain struct passed by value, validated once at entry.
+/// Lengths are in model units; 0 means "derived" where stated.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace paramesh {
+
+/// A local size on CAD entities ("Face3=0.5" on the command line).
+struct LocalSize {
+  enum class Kind { Face, Edge, Vertex };
+  Kind kind = Kind::Face;
+  std::vector<int> entities;  ///< 1-based entity numbers
+  double size = 0;            ///< target element size near the entities (> 0)
+};
+
+/// One surface boundary-layer specification.
+struct BoundaryLayerSpec {
+  std::vector<int> edges;      ///< 1-based CAD edges the layers grow from
+  double firstHeight = 0;      ///< height of the first row h0 (> 0)
+  double growth = 1.2;         ///< ratio between consecutive row heights (>= 1)
+  int layers = 0;              ///< number of rows N (0: derived from thickness)
+  double thickness = 0;        ///< total thickness T (0: derived from layers)
+  double maxAspect = 0;        ///< a column stops when its row height reaches spacing*maxAspect^-1 ... 0 = off
+  bool quads = true;           ///< stretched quads (true) or quads split into two triangles (false)
+};
+
+/// Parameters of a meshing run. Defaults give a uniform-size mesh at diagonal/50.
+struct MeshParams {
+  double size = 0;            ///< target element edge length; 0: bounding-box diagonal / 50
+  double minSize = 0;         ///< lower clamp of every size source; 0: size / 100
+  double maxSize = 0;         ///< upper clamp; 0: size
+  double curvatureAngle = 0;  ///< degrees an element may subtend on curved faces/edges; 0: off
+  double grading = 1.3;       ///< max size ratio between neighbouring elements (> 1)
+  int threads = 1;            ///< worker threads for face meshing; 0: all cores
+  int order = 1;              ///< element order, 1 or 2 (mid-nodes on the CAD)
+  bool quads = false;         ///< quad-dominant surface mesh
+  int optimizePasses = 4;     ///< passes of the 3D optimiser (swap + smooth + split/collapse)
+  std::vector<LocalSize> localSizes;
+  std::vector<BoundaryLayerSpec> boundaryLayers;
+
+  /// Throws ParameterError naming the first invalid field.
+  void validate() const;
+};
+
+}  // namespace paramesh

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file Report.hpp
+/// What a meshing run reports: overall status, per-face status, per-stage timings, quality.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace paramesh {
+
+/// Overall outcome: every face meshed / some faces failed (the rest is meshed) / nothing usable.
+enum class RunStatus { Ok, Degraded, Failed };
+const char* toString(RunStatus s);
+
+struct FaceReport {
+  int face = 0;                 ///< 1-based face number
+  std::string surface;          ///< surface type
+  bool ok = false;
+  std::string error;            ///< reason when !ok
+  int triangles = 0, quads = 0, nodes = 0;
+  int rejectedPoints = 0;       ///< frontal points rejected (diagnostic)
+  double seconds = 0;
+};
+
+/// Quality summary of the surface elements (triangles; quads reported separately).
+struct QualitySummary {
+  double gammaMin = 0, gammaMean = 0;       ///< radius ratio 2 r_in / r_circ
+  double angleMin = 0, angleMax = 0;        ///< degrees
+  double pctAngleBelow30 = 0;               ///< % of triangles whose min angle < 30 deg
+  double pctLenInSqrt2 = 0;                 ///< % of edges with length / h in [1/sqrt2, sqrt2]
+  double lenRatioMean = 0;                  ///< mean of length / h
+  int invertedTriangles = 0;                ///< triangles facing against the surface normal
+};
+
+struct Report {
+  RunStatus status = RunStatus::Ok;
+  std::string message;                      ///< one-line summary (the reason when not Ok)
+  std::string source;                       ///< input description
+  int cadFaces = 0, cadEdges = 0, cadVertices = 0, cadSolids = 0;
+  double size = 0, minSize = 0, maxSize = 0, curvatureAngle = 0, grading = 0;
+  int threads = 1;
+  int nodes = 0, triangles = 0, quads = 0;
+  size_t sizeSources = 0;
+  std::vector<FaceReport> faces;
+  std::vector<std::pair<std::string, double>> stageSeconds;
+  QualitySummary quality;
+  std::vector<std::string> warnings;
+  std::vector<std::string> extraJson;       ///< "key": value fragments added by optional stages
+};
+
+}  // namespace paramesh

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/pipeline/ReportJson.hpp"
+
+#include <fstream>
+
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+
+Json reportToJson(const Report& r) {
+  Json j = Json::object();
+  j["status"] = toString(r.status);
+  j["message"] = r.message;
+  j["source"] = r.source;
+  Json& cad = j["cad"];
+  cad["faces"] = r.cadFaces;
+  cad["edges"] = r.cadEdges;
+  cad["vertices"] = r.cadVertices;
+  cad["solids"] = r.cadSolids;
+  Json& par = j["parameters"];
+  par["size"] = r.size;
+  par["min_size"] = r.minSize;
+  par["max_size"] = r.maxSize;
+  par["curvature_angle"] = r.curvatureAngle;
+  par["grading"] = r.grading;
+  par["threads"] = r.threads;
+  Json& cnt = j["counts"];
+  cnt["nodes"] = r.nodes;
+  cnt["triangles"] = r.triangles;
+  cnt["quads"] = r.quads;
+  cnt["size_sources"] = r.sizeSources;
+  Json& st = j["seconds"];
+  for (const auto& kv : r.stageSeconds) st[kv.first] = kv.second;
+  Json& q = j["quality"];
+  q["gamma_min"] = r.quality.gammaMin;
+  q["gamma_mean"] = r.quality.gammaMean;
+  q["angle_min"] = r.quality.angleMin;
+  q["angle_max"] = r.quality.angleMax;
+  q["pct_angle_lt_30"] = r.quality.pctAngleBelow30;
+  q["pct_len_in_sqrt2"] = r.quality.pctLenInSqrt2;
+  q["len_ratio_mean"] = r.quality.lenRatioMean;
+  Json& faces = j["faces"];
+  faces = Json::array();
+  for (const FaceReport& f : r.faces) {
+    Json fj = Json::object();
+    fj["face"] = f.face;
+    fj["name"] = "Face" + std::to_string(f.face);
+    fj["surface"] = f.surface;
+    fj["status"] = f.ok ? "ok" : "failed";
+    if (!f.ok) fj["error"] = f.error;
+    fj["triangles"] = f.triangles;
+    fj["quads"] = f.quads;
+    fj["interior_nodes"] = f.nodes;
+    fj["seconds"] = f.seconds;
+    faces.push(std::move(fj));
+  }
+  Json& w = j["warnings"];
+  w = Json::array();
+  for (const auto& s : r.warnings) w.push(s);
+  return j;
+}
+
+void writeReportJson(const std::string& path, const Report& r) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write the report '" + path + "'");
+  out << reportToJson(r).dump(1) << "\n";
+  if (!out) throw Error("cannot write the report '" + path + "'");
+}
+
+}  // namespace paramesh

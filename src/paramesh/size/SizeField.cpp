@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/size/SizeField.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+
+void SizeField::addSource(Vec3 p, double h) {
+  if (!(h < hmax_)) return;
+  pts_.push_back(p);
+  hs_.push_back(h);
+  built_ = false;
+}
+
+int SizeField::buildNode(int begin, int end, int depth) {
+  Node nd;
+  nd.begin = begin;
+  nd.end = end;
+  nd.lo = {1e300, 1e300, 1e300};
+  nd.hi = {-1e300, -1e300, -1e300};
+  nd.hmin = 1e300;
+  for (int i = begin; i < end; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      nd.lo[k] = std::min(nd.lo[k], pts_[i][k]);
+      nd.hi[k] = std::max(nd.hi[k], pts_[i][k]);
+    }
+    nd.hmin = std::min(nd.hmin, hs_[i]);
+  }
+  int id = (int)nodes_.size();
+  nodes_.push_back(nd);
+  if (end - begin > 8 && depth < 60) {
+    int axis = 0;
+    Vec3 ext = nd.hi - nd.lo;
+    if (ext.y > ext[axis]) axis = 1;
+    if (ext.z > ext[axis]) axis = 2;
+    int mid = (begin + end) / 2;
+    // sort an index permutation, then apply to pts_/hs_
+    std::vector<int> idx(end - begin);
+    std::iota(idx.begin(), idx.end(), begin);
+    std::nth_element(idx.begin(), idx.begin() + (mid - begin), idx.end(),
+                     [&](int a, int b) { return pts_[a][axis] < pts_[b][axis]; });
+    std::vector<Vec3> p(end - begin);
+    std::vector<double> h(end - begin);
+    for (int i = 0; i < end - begin; ++i) {
+      p[i] = pts_[idx[i]];
+      h[i] = hs_[idx[i]];
+    }
+    std::copy(p.begin(), p.end(), pts_.begin() + begin);
+    std::copy(h.begin(), h.end(), hs_.begin() + begin);
+    int l = buildNode(begin, mid, depth + 1);
+    int r = buildNode(mid, end, depth + 1);
+    nodes_[id].left = l;
+    nodes_[id].right = r;
+  }
+  return id;
+}
+
+void SizeField::build() {
+  nodes_.clear();
+  if (pts_.empty()) {
+    built_ = true;
+    return;
+  }
+  // Sort by size so that small (dominating) sources come first, build, then drop dominated ones.
+  std::vector<int> order(pts_.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return hs_[a] < hs_[b]; });
+  std::vector<Vec3> p;
+  std::vector<double> h;
+  p.reserve(order.size());
+  h.reserve(order.size());
+  for (int i : order) {
+    p.push_back(pts_[i]);
+    h.push_back(hs_[i]);
+  }
+  pts_.swap(p);
+  hs_.swap(h);
+  buildNode(0, (int)pts_.size(), 0);
+  built_ = true;
+  // A source dominated at its own position (by another one) is dominated everywhere.
+  std::vector<Vec3> keepP;
+  std::vector<double> keepH;
+  for (size_t i = 0; i < pts_.size(); ++i) {
+    double best = hmax_;
+    query(0, pts_[i], best);
+    if (best >= hs_[i] * (1 - 1e-12) ) {  // nothing strictly smaller here: keep
+      keepP.push_back(pts_[i]);
+      keepH.push_back(hs_[i]);
+    }
+  }
+  // Equal duplicates: query returns their own value, both kept; acceptable.
+  pts_.swap(keepP);
+  hs_.swap(keepH);
+  nodes_.clear();
+  if (!pts_.empty()) buildNode(0, (int)pts_.size(), 0);
+}
+
+void SizeField::query(int id, Vec3 x, double& best) const {
+  const Node& nd = nodes_[id];
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    double d = 0;
+    if (x[k] < nd.lo[k]) d = nd.lo[k] - x[k];
+    else if (x[k] > nd.hi[k]) d = x[k] - nd.hi[k];
+    d2 += d * d;
+  }
+  if (nd.hmin + slope_ * std::sqrt(d2) >= best) return;
+  if (nd.left < 0) {
+    for (int i = nd.begin; i < nd.end; ++i) {
+      double v = hs_[i] + slope_ * dist(x, pts_[i]);
+      if (v < best) best = v;
+    }
+    return;
+  }
+  // visit the nearer child first
+  const Node &L = nodes_[nd.left], &R = nodes_[nd.right];
+  auto lb = [&](const Node& n) {
+    double dd = 0;
+    for (int k = 0; k < 3; ++k) {
+      double d = 0;
+      if (x[k] < n.lo[k]) d = n.lo[k] - x[k];
+      else if (x[k] > n.hi[k]) d = x[k] - n.hi[k];
+      dd += d * d;
+    }
+    return n.hmin + slope_ * std::sqrt(dd);
+  };
+  if (lb(L) <= lb(R)) {
+    query(nd.left, x, best);
+    query(nd.right, x, best);
+  } else {
+    query(nd.right, x, best);
+    query(nd.left, x, best);
+  }
+}
+
+double SizeField::size(Vec3 x) const {
+  PM_CHECK(built_, "SizeField::size() before build()");
+  double best = hmax_;
+  if (!nodes_.empty()) query(0, x, best);
+  return best;
+}
+
+}  // namespace paramesh
