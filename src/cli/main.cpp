@@ -29,6 +29,8 @@ const char* kUsage =
     "  --min-size H          smallest size any size source may ask for (default: size/100)\n"
     "  --max-size H          largest element size (default: size)\n"
     "  --curvature-angle DEG max angle an element may subtend on curved faces/edges (0: off)\n"
+    "  --max-deviation R     max chordal deviation from the CAD as a fraction of size\n"
+    "                        (default 0: off)\n"
     "  --grading G           max size ratio between neighbouring elements (default 1.3)\n"
     "  --threads N           worker threads (0: all cores; default 1)\n"
     "  --optimize N          optimisation passes (default 4)\n"
@@ -108,6 +110,7 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--max-size") p.maxSize = parseNumber(a, next());
     else if (a == "--curvature-angle") p.curvatureAngle = parseNumber(a, next());
     else if (a == "--grading") p.grading = parseNumber(a, next());
+    else if (a == "--max-deviation") p.maxDeviation = parseNumber(a, next());
     else if (a == "--threads") p.threads = parseInt(a, next());
     else if (a == "--optimize") p.optimizePasses = parseInt(a, next());
     else if (a == "--report") report = next();

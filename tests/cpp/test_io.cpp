@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -443,8 +444,10 @@ TEST_F(IoTest, MshEmptyMesh) {
   std::string p = file("empty.msh");
   writeMsh41(p, m);
   Msh msh = readMsh(p);
-  EXPECT_EQ(msh.declaredNodes, 0u);
+  EXPECT_EQ(msh.format, "4.1 0 8");
+  EXPECT_EQ(msh.nodes.size(), 0u);
   EXPECT_EQ(msh.elems.size(), 0u);
+  EXPECT_EQ(countOf(readFile(p), "$Nodes"), 0u);  // Gmsh writes no empty sections either
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -861,10 +864,13 @@ TEST(IoRender, FocusZoomsAndClipsFront) {
   for (int y = 0; y < 300; ++y)
     for (int x = 0; x < 300; ++x) coverZoom += !isWhite(zoom, x, y);
   EXPECT_GT(coverZoom, coverFull);
-  // A box on the back face x=0 (behind the visible faces): the front is clipped away so the
-  // picture centre shows face 1 exactly as when face 1 is rendered alone.
+  // A box on the back face x=0 (behind the visible faces): without clipFront the front faces
+  // hide it; with it the front is clipped away and the picture centre shows face 1 exactly as
+  // when face 1 is rendered alone.
   o.focusLo = {-0.01, 0.3, 0.3};
   o.focusHi = {0.01, 0.7, 0.7};
+  RgbImage hidden = renderImage(cube, o);
+  o.clipFront = true;
   RgbImage back = renderImage(cube, o);
   SurfaceMesh face1 = cube;
   std::vector<std::array<int, 3>> tris;
@@ -876,6 +882,22 @@ TEST(IoRender, FocusZoomsAndClipsFront) {
   RgbImage alone = renderImage(face1, o);
   EXPECT_FALSE(isWhite(back, 150, 150));
   EXPECT_EQ(std::memcmp(&back.rgb[(150 * 300 + 150) * 3], &alone.rgb[(150 * 300 + 150) * 3], 3), 0);
+  EXPECT_NE(std::memcmp(&hidden.rgb[(150 * 300 + 150) * 3], &alone.rgb[(150 * 300 + 150) * 3], 3), 0);
+  o.clipFront = false;
+  // Extreme zoom into face 2 away from its edges (triangles far larger than the picture are
+  // clipped before rasterisation): one uniform colour, no edge.
+  o.edges = true;
+  o.focusLo = {1 - 1e-6, 0.3 - 1e-6, 0.6 - 1e-6};
+  o.focusHi = {1 + 1e-6, 0.3 + 1e-6, 0.6 + 1e-6};
+  RgbImage tiny = renderImage(cube, o);
+  EXPECT_EQ(distinctColours(tiny), 1u);
+  EXPECT_FALSE(isWhite(tiny, 0, 0));
+  // A focus box away from the model: an empty picture; a degenerate box still works.
+  o.focusLo = {10, 10, 10};
+  o.focusHi = {11, 11, 11};
+  EXPECT_TRUE(isWhite(renderImage(cube, o), 150, 150));
+  o.focusLo = o.focusHi = {0.5, 0.5, 0.5};
+  EXPECT_EQ(renderImage(cube, o).rgb.size(), 300u * 300u * 3u);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -190,16 +190,15 @@ class Frontal {
     const double bb = dot(b, b), cc = dot(c, c);
     const Vec2 cen{(c.y * bb - b.y * cc) / d, (b.x * cc - c.x * bb) / d};
     const double q = dot(cen - mid, n);  // signed distance midpoint -> circumcentre
-    const double half = 0.5 * len;
-    const double rhoT = std::max(1.0 / std::sqrt(3.0), half);
-    double dist = rhoT + std::sqrt(std::max(rhoT * rhoT - half * half, 0.0));
+    // height of the equilateral triangle of unit side, not beyond the circumcentre
+    double dist = 0.8660254037844386;
     if (q > 0) dist = std::min(dist, q);
     if (!(dist > 1e-3)) return false;
     const Vec2 sPred = A.uv + L.inv(mid + dist * n);
     if (C_.planar) {
       s = sPred;
       p = C_.surf.eval(C_.toParam(s));
-      return true;
+      return C_.inDomain(s);
     }
     // 3D placement: from the 3D edge midpoint, in the tangent plane, at the same relative height
     const double hE = 3.0 / (1.0 / A.h + 1.0 / B.h + 1.0 / Cv.h);
@@ -222,7 +221,7 @@ class Frontal {
       s = sPred;
       p = C_.surf.eval(C_.toParam(s));
     }
-    return true;
+    return C_.inDomain(s);
   }
   static double dist3(Vec3 a, Vec3 b) { return paramesh::dist(a, b); }
 
@@ -253,6 +252,42 @@ class Frontal {
   std::priority_queue<Entry> heap_;
 };
 
+/// Inserts the (u,v) centroid of every triangle whose 3D normal deviates from the surface normal
+/// by more than ~60 degrees (small, strongly curved faces whose boundary alone cannot be
+/// triangulated faithfully). A few rounds; the centroid always lies inside its triangle.
+int refineFolded(Triangulation& T, const SurfaceContext& C) {
+  int inserted = 0;
+  const Triangulation::FlipTest test = [&T](int t, int i) { return T.metricFlip(t, i); };
+  for (int round = 0; round < 6; ++round) {
+    std::vector<int> bad;
+    for (int t = 0; t < (int)T.tris.size(); ++t) {
+      const Triangle& tr = T.tris[t];
+      if (tr.dead) continue;
+      const TriVertex &a = T.verts[tr.v[0]], &b = T.verts[tr.v[1]], &c = T.verts[tr.v[2]];
+      if (a.node >= 0 && (a.node == b.node || a.node == c.node)) continue;  // pole triangle
+      if (b.node >= 0 && b.node == c.node) continue;
+      const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
+      const double ln = norm(n);
+      Vec3 ns;
+      if (!C.surf.normal(C.toParam((1.0 / 3) * (a.uv + b.uv + c.uv)), ns)) continue;
+      if (!(ln > 0) || dot(n, ns) < 0.5 * ln) bad.push_back(t);
+    }
+    if (bad.empty()) break;
+    for (int t : bad) {
+      if (T.tris[t].dead) continue;
+      const Triangle tr = T.tris[t];
+      const Vec2 s = (1.0 / 3) * (T.verts[tr.v[0]].uv + T.verts[tr.v[1]].uv + T.verts[tr.v[2]].uv);
+      int e = -1;
+      const int where = T.locate(s, t, &e);
+      if (where < 0 || (e >= 0 && T.isConstrained(where, e)) || !C.inDomain(s)) continue;
+      const int v = T.addVertex(C.makeVertex(s));
+      T.insert(v, where, e, test);
+      ++inserted;
+    }
+  }
+  return inserted;
+}
+
 }  // namespace
 
 FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, const SizeField& size,
@@ -260,6 +295,14 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
   FaceMeshResult res;
   try {
     SurfaceContext C(surf, size);
+    DomainGuard guard;
+    if (!boundary.trueLoops.empty()) {
+      std::vector<std::vector<Vec2>> scaled = boundary.trueLoops;
+      for (auto& L : scaled)
+        for (auto& q : L) q = C.toScaled(q);
+      guard = DomainGuard(scaled);
+      C.guard = &guard;
+    }
     Triangulation T;
     std::vector<std::pair<int, int>> segs;
     for (const auto& loop : boundary.loops) {
@@ -285,6 +328,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     Frontal fr(T, C, opt, progress);
     fr.run();
     res.rejectedPoints = fr.rejected;
+    refineFolded(T, C);
     Optimizer O(T, C);
     O.run(opt.optimizePasses);
     T.compact();

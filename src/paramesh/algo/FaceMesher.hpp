@@ -28,11 +28,14 @@ struct FaceBoundary {
   /// Extra constrained segments (pairs of (loop, index)) inside the face, e.g. a boundary-layer
   /// front; unused for plain faces.
   std::vector<std::array<int, 4>> extraSegments;
+  /// The true trimmed boundary in (u,v): the pcurves sampled finely (closed loops). New interior
+  /// nodes must lie inside it. Empty: no guard (the boundary chords are exact, e.g. polygons).
+  std::vector<std::vector<Vec2>> trueLoops;
 };
 
 struct FaceMeshOptions {
   int optimizePasses = 4;
-  double acceptRadius = 0.65;   ///< frontal: triangles whose metric circumradius is below are accepted
+  double acceptRadius = 0.7071;   ///< frontal: triangles whose metric circumradius is below are accepted
   long maxPoints = 50000000;    ///< hard cap on inserted points (guards against runaway refinement)
 };
 

@@ -106,7 +106,7 @@ int Optimizer::smoothPass() {
       Vec3 goal = oldXyz + relax * (target - oldXyz);
       Vec2 s = oldUv;
       Vec3 p;
-      if (!C_.stepAndProject(s, goal, p)) continue;
+      if (!C_.stepAndProject(s, goal, p) || !C_.inDomain(s)) continue;
       V.uv = s;
       V.xyz = p;
       bool ok = true;
@@ -161,12 +161,13 @@ int Optimizer::splitPass(double longRatio) {
     const int a = tr.v[nx(c.i)], b = tr.v[pv(c.i)];
     if (T_.isConstrained(c.t, c.i) || edgeRatio(a, b) <= longRatio) continue;
     const Vec2 m = 0.5 * (T_.verts[a].uv + T_.verts[b].uv);
+    if (!C_.inDomain(m)) continue;
     TriVertex nv = C_.makeVertex(m);
     // the 3D midpoint of the chord, projected, is a better split point on curved faces
     Vec2 s = m;
     Vec3 p;
     const Vec3 mid3 = 0.5 * (T_.verts[a].xyz + T_.verts[b].xyz);
-    if (!C_.planar && C_.project(mid3, s, p)) {
+    if (!C_.planar && C_.project(mid3, s, p) && C_.inDomain(s)) {
       // keep it only if it stays inside the two triangles' quad (checked after insertion)
       nv.uv = s;
       nv.xyz = p;

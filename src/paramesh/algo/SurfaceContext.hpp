@@ -6,6 +6,7 @@
 #pragma once
 #include <cmath>
 
+#include "paramesh/algo/DomainGuard.hpp"
 #include "paramesh/algo/Triangulation.hpp"
 #include "paramesh/geom/Geometry.hpp"
 #include "paramesh/size/SizeField.hpp"
@@ -20,6 +21,10 @@ class SurfaceContext {
   const SizeField& field;
   double su = 1, sv = 1;  ///< parameter scales
   bool planar = false;
+  const DomainGuard* guard = nullptr;  ///< true trimmed domain, in scaled (u,v)
+
+  /// True when the scaled parameter s lies inside the face's true trimmed domain.
+  bool inDomain(Vec2 s) const { return !guard || guard->inside(s); }
 
   Vec2 toParam(Vec2 s) const { return {s.x / su, s.y / sv}; }
   Vec2 toScaled(Vec2 p) const { return {p.x * su, p.y * sv}; }

@@ -65,7 +65,16 @@ void AtomicFile::commit() {
   out_.close();
   if (out_.fail()) fail("write error while closing the file");
   std::error_code ec;
-  std::filesystem::rename(std::filesystem::u8path(tmp_), std::filesystem::u8path(path_), ec);
+  const std::filesystem::path from = std::filesystem::u8path(tmp_);
+  const std::filesystem::path to = std::filesystem::u8path(path_);
+  std::filesystem::rename(from, to, ec);
+  std::error_code ec2;
+  if (ec && std::filesystem::is_regular_file(to, ec2)) {
+    // Some platforms' rename does not replace an existing file: remove it and retry.
+    std::filesystem::remove(to, ec2);
+    ec.clear();
+    std::filesystem::rename(from, to, ec);
+  }
   if (ec) fail("cannot replace the file (" + ec.message() + ")");
   committed_ = true;
 }
@@ -171,7 +180,9 @@ class TextOut {
     f_.write(std::string_view(&c, 1));
     return *this;
   }
-  template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, char>, int> = 0>
+  template <class T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, char> &&
+                                        !std::is_same_v<T, bool>,
+                                    int> = 0>
   TextOut& operator<<(T v) {
     char b[32];
     std::to_chars_result r = std::to_chars(b, b + sizeof b, v);
@@ -277,6 +288,11 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
     }
   out << "$EndEntities\n";
 
+  if (N == 0) {  // like Gmsh: an empty mesh has no $Nodes / $Elements sections
+    out.commit();
+    return;
+  }
+
   // Nodes, one block per (dimension, entity), ascending tags within a block.
   auto nodeKey = [&](int i) {
     return std::pair<int, int>(static_cast<int>(m.nodeKind[i]), m.nodeEntity[i]);
@@ -284,7 +300,7 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
   std::vector<int> nodeOrder = sortedBy(N, nodeKey);
   std::size_t nodeBlocks = 0;
   forEachRun(nodeOrder, nodeKey, [&](std::size_t, std::size_t) { ++nodeBlocks; });
-  out << "$Nodes\n" << nodeBlocks << ' ' << N << ' ' << (N ? 1 : 0) << ' ' << N << '\n';
+  out << "$Nodes\n" << nodeBlocks << ' ' << N << " 1 " << N << '\n';
   forEachRun(nodeOrder, nodeKey, [&](std::size_t b, std::size_t e) {
     int i0 = nodeOrder[b];
     out << static_cast<int>(m.nodeKind[i0]) << ' ' << m.nodeEntity[i0] << " 0 " << (e - b) << '\n';
@@ -528,9 +544,12 @@ void writeInp(const std::string& path, const SurfaceMesh& m) {
                  : std::pair<int, int>(m.quadFace[e - T], 1);
   };
   std::vector<int> order = sortedBy(m.triangles.size() + m.quads.size(), surfKey);
+  int lastType = -1;  // a new *ELEMENT header only when the element type changes
   forEachRun(order, surfKey, [&](std::size_t b, std::size_t e) {
     bool quad = surfKey(order[b]).second == 1;
-    out << "*ELEMENT, TYPE=" << (quad ? (o2 ? "S8" : "S4") : (o2 ? "S6" : "S3")) << '\n';
+    if (lastType != int(quad))
+      out << "*ELEMENT, TYPE=" << (quad ? (o2 ? "S8" : "S4") : (o2 ? "S6" : "S3")) << '\n';
+    lastType = int(quad);
     for (std::size_t k = b; k < e; ++k) {
       int el = order[k];
       out << k + 1;
@@ -563,6 +582,8 @@ void writeMesh(const std::string& path, const SurfaceMesh& m) {
   if (ext == ".vtu") return writeVtu(path, m);
   if (ext == ".stl") return writeStl(path, m, true);
   if (ext == ".inp") return writeInp(path, m);
+  if (ext.empty())
+    throw Error("cannot write '" + path + "': no file extension (use .msh, .vtu, .stl or .inp)");
   throw Error("unsupported output format '" + ext + "' for '" + path +
               "' (use .msh, .vtu, .stl or .inp)");
 }

@@ -147,18 +147,21 @@ class Raster {
     if (!clip(-dx, a.x) || !clip(dx, w_ - a.x) || !clip(-dy, a.y) || !clip(dy, h_ - a.y)) return;
     PV p{a.x + t0 * dx, a.y + t0 * dy, a.z + t0 * (b.z - a.z)};
     PV q{a.x + t1 * dx, a.y + t1 * dy, a.z + t1 * (b.z - a.z)};
-    double len = std::max(std::fabs(q.x - p.x), std::fabs(q.y - p.y));
-    int steps = static_cast<int>(std::ceil(len));
-    double inv = steps > 0 ? 1.0 / steps : 0.0;
-    for (int k = 0; k <= steps; ++k) {
-      double t = k * inv;
-      int ix = static_cast<int>(std::floor(p.x + t * (q.x - p.x)));
-      int iy = static_cast<int>(std::floor(p.y + t * (q.y - p.y)));
-      ix = std::min(ix, w_ - 1);
-      iy = std::min(iy, h_ - 1);
-      if (ix < 0 || iy < 0) continue;
-      double z = p.z + t * (q.z - p.z);
-      if (z > zNear) continue;
+    // One pixel per column (x-major) or row (y-major), sampled on the line at the pixel centre's
+    // abscissa (clamped to the segment), so no column/row is skipped or doubled.
+    const bool xMajor = std::fabs(q.x - p.x) >= std::fabs(q.y - p.y);
+    const double u0 = xMajor ? p.x : p.y, u1 = xMajor ? q.x : q.y;
+    const double uLo = std::min(u0, u1), uHi = std::max(u0, u1), du = u1 - u0;
+    const int limit = (xMajor ? w_ : h_) - 1;
+    const int k0 = std::max(0, static_cast<int>(std::floor(uLo)));
+    const int k1 = std::min(limit, static_cast<int>(std::floor(uHi)));
+    for (int k = k0; k <= k1; ++k) {
+      double u = std::clamp(k + 0.5, uLo, uHi);
+      double t = du != 0 ? (u - u0) / du : 0.0;
+      double x = p.x + t * (q.x - p.x), y = p.y + t * (q.y - p.y), z = p.z + t * (q.z - p.z);
+      int ix = std::min(w_ - 1, static_cast<int>(std::floor(x)));
+      int iy = std::min(h_ - 1, static_cast<int>(std::floor(y)));
+      if (ix < 0 || iy < 0 || z > zNear) continue;
       std::size_t pix = static_cast<std::size_t>(iy) * w_ + ix;
       if (static_cast<float>(z) + tol_[pix] >= z_[pix]) put(pix, col);
     }
@@ -227,9 +230,10 @@ class Raster {
     double det = (fx[1] - fx[0]) * (fy[2] - fy[0]) - (fx[2] - fx[0]) * (fy[1] - fy[0]);
     double gx = ((Z[1] - Z[0]) * (fy[2] - fy[0]) - (Z[2] - Z[0]) * (fy[1] - fy[0])) / det;
     double gy = ((fx[1] - fx[0]) * (Z[2] - Z[0]) - (fx[2] - fx[0]) * (Z[1] - Z[0])) / det;
-    // A line sample lies within half a pixel (in x and y) of the centre of the pixel it lands on.
+    // A line sample lies within half a pixel (in x and y) of the centre of the pixel it lands
+    // on: allow that much depth change, with a margin.
     const float tol =
-        static_cast<float>(depthBias + std::min(slopeCap, 0.5 * (std::fabs(gx) + std::fabs(gy))));
+        static_cast<float>(depthBias + std::min(slopeCap, 0.6 * (std::fabs(gx) + std::fabs(gy))));
     double zRow = Z[0] + gx * (static_cast<double>(x0) + 0.5 - fx[0]) +
                   gy * (static_cast<double>(y0) + 0.5 - fy[0]);
     const bool clipNear = std::isfinite(zNear);
@@ -328,7 +332,7 @@ RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
   Raster r(W, H);
   r.depthBias = 2e-5 * depthRange;
   r.slopeCap = 0.02 * depthRange;
-  if (o.hasFocus) {
+  if (o.hasFocus && o.clipFront) {
     double nearest = -1e300;
     for (int k = 0; k < 8; ++k)
       nearest = std::max(nearest, dot(Vec3{(k & 1) ? focus.hi.x : focus.lo.x,
@@ -384,8 +388,8 @@ RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
                    ? io::quadQuality(m.nodes[e[0]], m.nodes[e[1]], m.nodes[e[2]], m.nodes[e[3]])
                    : 0.0;
     Rgb base = baseColor(m.quadFace[qi], q);
-    auto quad = [&](const PV& a, const PV& b, const PV& c, const PV& dd, Vec3 na, Vec3 nb,
-                    Vec3 nc, Vec3 nd) {
+    auto quad = [&](const PV& a, const PV& b, const PV& c, const PV& dd, const Vec3& na,
+                    const Vec3& nb, const Vec3& nc, const Vec3& nd) {
       // Shade with the quad's mean normal; split along the shorter screen diagonal.
       Vec3 n = cross(nc - na, nd - nb);
       double l = norm(n);

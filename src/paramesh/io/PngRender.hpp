@@ -22,10 +22,14 @@ struct RenderOptions {
   /// ByFace: pastel colour per CAD face (fixed for a face number). ByQuality: blue (0) -> cyan ->
   /// green -> yellow -> red (1) of the triangle radius ratio gamma / quad corner-sine quality.
   enum class Color { ByFace, ByQuality, Uniform } color = Color::ByFace;
-  /// Close-up: frame only this 3D box; geometry in front of the box (nearer to the camera than
-  /// its nearest corner plus 5% of its diagonal) is clipped away so it does not hide the box.
+  /// Close-up: frame only this 3D box (the rest of the model is still drawn where it falls into
+  /// the picture, and may hide the box: choose the view direction accordingly, or clipFront).
   bool hasFocus = false;
   Vec3 focusLo, focusHi;
+  /// With hasFocus: cut-away view, discarding every fragment nearer to the camera than the focus
+  /// box's nearest corner (plus 5% of its diagonal). Surfaces through the box that are oblique to
+  /// the view may then be cut inside the picture too.
+  bool clipFront = false;
   std::string title;  ///< not drawn (no font rendering); kept for callers' convenience
 };
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "paramesh/algo/FaceMesher.hpp"
+#include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
 #include "paramesh/size/SizeField.hpp"
@@ -56,6 +57,7 @@ struct Mesher::Impl {
   SizeField field;
   std::vector<EdgeMesh> edges;
   std::vector<int> vertexNode;
+  Coincidence same;  ///< coincident vertices/edges of unsewn faces
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -96,6 +98,7 @@ struct Mesher::Impl {
     report.minSize = p.minSize;
     report.maxSize = p.maxSize;
     report.curvatureAngle = p.curvatureAngle;
+    report.maxDeviation = p.maxDeviation;
     report.grading = p.grading;
     report.threads = threads;
     report.source = model.source();
@@ -108,21 +111,34 @@ struct Mesher::Impl {
     mesh.numVertices = model.numVertices();
   }
 
+  // ---------------------------------------------------------------- coincident topology
+  void findCoincidentTopology() {
+    Timer tm;
+    // gaps up to 1e-6 of the diagonal are closed (nodes then stay within 1e-4 h of every face for
+    // h >= diagonal/100); larger gaps are real and stay open
+    same = findCoincident(model, 1e-6 * model.boundingBox().diagonal());
+    if (same.mergedEdges || same.mergedVertices)
+      log.info("unsewn CAD: " + std::to_string(same.mergedEdges) + " coincident edges and " +
+               std::to_string(same.mergedVertices) + " coincident vertices are meshed as one");
+    stage("topology", tm.seconds());
+  }
+
   // ---------------------------------------------------------------- size field
   void buildSizeField() {
     Timer tm;
     const double hmax = std::min(p.size, p.maxSize);
     field = SizeField(hmax, p.grading);
     std::vector<std::vector<SizeSource>> per;
-    if (p.curvatureAngle > 0) {
+    if (p.curvatureAngle > 0 || p.maxDeviation > 0) {
       const double ang = p.curvatureAngle * kPi / 180.0;
+      const double dev = p.maxDeviation * p.size;
       const int nf = model.numFaces(), ne = model.numEdges();
       per.resize(nf + ne);
       parallelFor(nf + ne, threads, [&](int i) {
         progress.poll();
         try {
-          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax)
-                          : edgeCurvatureSources(model, i - nf, ang, p.minSize, hmax);
+          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax, dev)
+                          : edgeCurvatureSources(model, i - nf, ang, p.minSize, hmax, dev);
         } catch (const Cancelled&) {
           throw;
         } catch (...) {
@@ -139,7 +155,7 @@ struct Mesher::Impl {
   }
 
   // ---------------------------------------------------------------- edges
-  void discretizeEdges(bool final) {
+  void discretizeEdges() {
     const int ne = model.numEdges();
     std::vector<std::vector<double>> ts(ne);
     std::vector<char> degen(ne, 0);
@@ -147,6 +163,7 @@ struct Mesher::Impl {
       progress.poll();
       double t0, t1;
       model.edgeRange(e, t0, t1);
+      if (same.edgeRep[e] != e) return;  // meshed through its representative
       if (model.edgeDegenerate(e)) {
         degen[e] = 1;
         ts[e] = {t0, t1};
@@ -164,6 +181,8 @@ struct Mesher::Impl {
       if (degen[e] || ts[e].size() != 2) continue;
       int a = model.edgeVertex(e, 0), b = model.edgeVertex(e, 1);
       if (a < 0 || b < 0) continue;
+      a = same.vertexRep[a];
+      b = same.vertexRep[b];
       byEnds[{std::min(a, b), std::max(a, b)}].push_back(e);
     }
     for (auto& kv : byEnds) {
@@ -173,28 +192,12 @@ struct Mesher::Impl {
         ts[e] = {ts[e][0], 0.5 * (ts[e][0] + ts[e][1]), ts[e][1]};
       }
     }
-    // also: edges sharing both vertices with an edge of 2+ segments are fine. Build nodes.
-    if (!final) {
-      // small-feature sources: where segments are much shorter than the field says
-      for (int e = 0; e < ne; ++e) {
-        if (degen[e]) continue;
-        auto c = model.makeCurve(e);
-        std::vector<Vec3> P;
-        for (double t : ts[e]) P.push_back(c->eval(t));
-        for (size_t i = 0; i < P.size(); ++i) {
-          double l = 1e300;
-          if (i > 0) l = std::min(l, dist(P[i], P[i - 1]));
-          if (i + 1 < P.size()) l = std::min(l, dist(P[i], P[i + 1]));
-          if (l < 0.6 * field.size(P[i])) field.addSource(P[i], std::max(l, p.minSize));
-        }
-      }
-      field.build();
-      return;
-    }
     vertexNode.assign(model.numVertices(), -1);
     edges.assign(ne, EdgeMesh());
     auto nodeOfVertex = [&](int v) {
-      if (vertexNode[v] < 0) vertexNode[v] = mesh.addNode(model.vertexPoint(v), NodeKind::Vertex, v + 1);
+      const int r = same.vertexRep[v];
+      if (vertexNode[r] < 0) vertexNode[r] = mesh.addNode(model.vertexPoint(r), NodeKind::Vertex, r + 1);
+      vertexNode[v] = vertexNode[r];
       return vertexNode[v];
     };
     for (int e = 0; e < ne; ++e) {
@@ -203,6 +206,7 @@ struct Mesher::Impl {
       if (v1 >= 0) nodeOfVertex(v1);
     }
     for (int e = 0; e < ne; ++e) {
+      if (same.edgeRep[e] != e) continue;
       EdgeMesh& em = edges[e];
       em.t = ts[e];
       em.degenerate = degen[e];
@@ -227,6 +231,25 @@ struct Mesher::Impl {
           mesh.segmentEdge.push_back(e + 1);
         }
     }
+    // coincident edges take their representative's nodes, with parameters on their own curve
+    for (int e = 0; e < ne; ++e) {
+      const int r = same.edgeRep[e];
+      if (r == e) continue;
+      const EdgeMesh& rm = edges[r];
+      EdgeMesh& em = edges[e];
+      auto c = model.makeCurve(e);
+      double t0, t1;
+      model.edgeRange(e, t0, t1);
+      const size_t n = rm.nodes.size();
+      em.nodes.resize(n);
+      em.t.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        const size_t j = same.edgeReversed[e] ? n - 1 - i : i;
+        em.nodes[i] = rm.nodes[j];
+        const double seed = t0 + (t1 - t0) * (double)i / (double)(n - 1);
+        em.t[i] = i == 0 ? t0 : (i + 1 == n ? t1 : c->project(mesh.nodes[em.nodes[i]], seed, t0, t1));
+      }
+    }
   }
 
   // ---------------------------------------------------------------- face boundaries
@@ -242,12 +265,14 @@ struct Mesher::Impl {
           for (int nd : edges[u.edge].nodes) poleNodes.insert(nd);
     for (size_t w = 0; w < wires.size(); ++w) {
       std::vector<BoundaryVertex> loop;
+      std::vector<Vec2> fine;  // the true boundary, finely sampled
       const Wire& W = wires[w];
       for (size_t k = 0; k < W.uses.size(); ++k) {
         const EdgeUse& use = W.uses[k];
         const EdgeMesh& em = edges[use.edge];
         auto pc = model.makePCurve(f, (int)w, (int)k);
         std::vector<BoundaryVertex> pts;
+        std::vector<double> pts_t;
         if (em.degenerate) {
           if (!pc) {
             why = "degenerate Edge" + std::to_string(use.edge + 1) + " has no curve on the face";
@@ -292,12 +317,22 @@ struct Mesher::Impl {
             bv.uv = uv;
             bv.pole = poleNodes.count(bv.node) > 0;
             pts.push_back(bv);
+            pts_t.push_back(em.t[j]);
           }
         }
         // periodic continuity with the previous use
+        Vec2 sh{0, 0};
         if (!loop.empty() && !pts.empty()) {
-          const Vec2 sh = unwrapNear(pts.front().uv, loop.back().uv, up, vp) - pts.front().uv;
+          sh = unwrapNear(pts.front().uv, loop.back().uv, up, vp) - pts.front().uv;
           for (auto& q : pts) q.uv = q.uv + sh;
+        }
+        // the true boundary between consecutive nodes (curved in (u,v) where the trim is)
+        for (size_t i = 0; i < pts.size(); ++i) {
+          if (i == 0 && !fine.empty()) continue;
+          if (i > 0 && pc && !em.degenerate)
+            refineTrim(s, *pc, pts_t[i - 1], pts_t[i], pts[i - 1].uv, pts[i].uv, sh,
+                       1e-5 * field.size(pts[i].xyz), fine, 0);
+          fine.push_back(pts[i].uv);
         }
         for (size_t i = 0; i < pts.size(); ++i) {
           if (!loop.empty() && i == 0) {
@@ -331,6 +366,8 @@ struct Mesher::Impl {
         why.clear();
       }
       loop.pop_back();
+      if (!fine.empty()) fine.pop_back();
+      fb.trueLoops.push_back(std::move(fine));
       // drop consecutive duplicates in (u,v)
       std::vector<BoundaryVertex> clean;
       for (auto& bv : loop) {
@@ -350,6 +387,20 @@ struct Mesher::Impl {
       return false;
     }
     return true;
+  }
+
+  /// Appends the interior samples of the pcurve between parameters ta and tb (exclusive) until the
+  /// surface point at the (u,v) chord midpoint is within eps (3D) of the trim curve.
+  static void refineTrim(const ISurface& s, const IPCurve& pc, double ta, double tb, Vec2 ua, Vec2 ub, Vec2 shift,
+                         double eps, std::vector<Vec2>& out, int depth) {
+    if (depth >= 8) return;
+    const double tm = 0.5 * (ta + tb);
+    const Vec2 um = pc.eval(tm) + shift;
+    const Vec2 chordMid = 0.5 * (ua + ub);
+    if (dist(s.eval(um), s.eval(chordMid)) <= eps) return;
+    refineTrim(s, pc, ta, tm, ua, um, shift, eps, out, depth + 1);
+    out.push_back(um);
+    refineTrim(s, pc, tm, tb, um, ub, shift, eps, out, depth + 1);
   }
 
   /// Number of (u,v) segments for a degenerate edge a->b: about the length of the first ring of
@@ -490,13 +541,13 @@ MeshOutput Mesher::run() {
   Impl& d = *d_;
   Timer total;
   d.resolveParams();
+  d.findCoincidentTopology();
   d.progress.report(0.0, "size field");
   d.buildSizeField();
   d.progress.report(0.05, "edges");
   {
     Timer te;
-    d.discretizeEdges(false);
-    d.discretizeEdges(true);
+    d.discretizeEdges();
     d.stage("edges", te.seconds());
   }
   d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +

@@ -30,6 +30,8 @@ void MeshParams::validate() const {
   if (curvatureAngle > 0 && curvatureAngle < 0.5)
     throw ParameterError("curvature_angle below 0.5 degrees would need an unbounded number of elements (got " +
                          num(curvatureAngle) + ")");
+  if (!finite(maxDeviation) || maxDeviation < 0 || maxDeviation > 1)
+    throw ParameterError("max_deviation must be in [0, 1] (a fraction of size; got " + num(maxDeviation) + ")");
   if (!finite(grading) || grading <= 1.0 || grading > 10)
     throw ParameterError("grading must be in (1, 10] (got " + num(grading) + ")");
   if (threads < 0 || threads > 1024) throw ParameterError("threads must be in [0, 1024] (got " + std::to_string(threads) + ")");

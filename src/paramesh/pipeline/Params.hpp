@@ -33,6 +33,7 @@ struct MeshParams {
   double minSize = 0;         ///< lower clamp of every size source; 0: size / 100
   double maxSize = 0;         ///< upper clamp; 0: size
   double curvatureAngle = 0;  ///< degrees an element may subtend on curved faces/edges; 0: off
+  double maxDeviation = 0;    ///< max chordal deviation from the CAD as a fraction of size (refines small radii); 0: off
   double grading = 1.3;       ///< max size ratio between neighbouring elements (> 1)
   int threads = 1;            ///< worker threads for face meshing; 0: all cores
   int order = 1;              ///< element order, 1 or 2 (mid-nodes on the CAD)

@@ -37,7 +37,7 @@ struct Report {
   std::string message;                      ///< one-line summary (the reason when not Ok)
   std::string source;                       ///< input description
   int cadFaces = 0, cadEdges = 0, cadVertices = 0, cadSolids = 0;
-  double size = 0, minSize = 0, maxSize = 0, curvatureAngle = 0, grading = 0;
+  double size = 0, minSize = 0, maxSize = 0, curvatureAngle = 0, maxDeviation = 0, grading = 0;
   int threads = 1;
   int nodes = 0, triangles = 0, quads = 0;
   size_t sizeSources = 0;

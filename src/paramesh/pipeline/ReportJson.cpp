@@ -22,6 +22,7 @@ Json reportToJson(const Report& r) {
   par["min_size"] = r.minSize;
   par["max_size"] = r.maxSize;
   par["curvature_angle"] = r.curvatureAngle;
+  par["max_deviation"] = r.maxDeviation;
   par["grading"] = r.grading;
   par["threads"] = r.threads;
   Json& cnt = j["counts"];

@@ -8,10 +8,11 @@
 
 namespace paramesh {
 
-void SizeField::addSource(Vec3 p, double h) {
+void SizeField::addSource(Vec3 p, double h, double slope) {
   if (!(h < hmax_)) return;
   pts_.push_back(p);
   hs_.push_back(h);
+  ss_.push_back(slope > 0 ? slope : slope_);
   built_ = false;
 }
 
@@ -22,7 +23,9 @@ int SizeField::buildNode(int begin, int end, int depth) {
   nd.lo = {1e300, 1e300, 1e300};
   nd.hi = {-1e300, -1e300, -1e300};
   nd.hmin = 1e300;
+  nd.smin = 1e300;
   for (int i = begin; i < end; ++i) {
+    nd.smin = std::min(nd.smin, ss_[i]);
     for (int k = 0; k < 3; ++k) {
       nd.lo[k] = std::min(nd.lo[k], pts_[i][k]);
       nd.hi[k] = std::max(nd.hi[k], pts_[i][k]);
@@ -43,13 +46,15 @@ int SizeField::buildNode(int begin, int end, int depth) {
     std::nth_element(idx.begin(), idx.begin() + (mid - begin), idx.end(),
                      [&](int a, int b) { return pts_[a][axis] < pts_[b][axis]; });
     std::vector<Vec3> p(end - begin);
-    std::vector<double> h(end - begin);
+    std::vector<double> h(end - begin), sl(end - begin);
     for (int i = 0; i < end - begin; ++i) {
       p[i] = pts_[idx[i]];
       h[i] = hs_[idx[i]];
+      sl[i] = ss_[idx[i]];
     }
     std::copy(p.begin(), p.end(), pts_.begin() + begin);
     std::copy(h.begin(), h.end(), hs_.begin() + begin);
+    std::copy(sl.begin(), sl.end(), ss_.begin() + begin);
     int l = buildNode(begin, mid, depth + 1);
     int r = buildNode(mid, end, depth + 1);
     nodes_[id].left = l;
@@ -69,31 +74,36 @@ void SizeField::build() {
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return hs_[a] < hs_[b]; });
   std::vector<Vec3> p;
-  std::vector<double> h;
+  std::vector<double> h, sl;
   p.reserve(order.size());
   h.reserve(order.size());
   for (int i : order) {
     p.push_back(pts_[i]);
     h.push_back(hs_[i]);
+    sl.push_back(ss_[i]);
   }
   pts_.swap(p);
   hs_.swap(h);
+  ss_.swap(sl);
   buildNode(0, (int)pts_.size(), 0);
   built_ = true;
-  // A source dominated at its own position (by another one) is dominated everywhere.
+  // A source dominated at its own position by another one whose slope is not steeper is
+  // dominated everywhere (triangle inequality).
   std::vector<Vec3> keepP;
-  std::vector<double> keepH;
+  std::vector<double> keepH, keepS;
   for (size_t i = 0; i < pts_.size(); ++i) {
     double best = hmax_;
-    query(0, pts_[i], best);
-    if (best >= hs_[i] * (1 - 1e-12) ) {  // nothing strictly smaller here: keep
+    queryDominating(0, pts_[i], ss_[i], best);
+    if (best >= hs_[i] * (1 - 1e-12)) {  // nothing strictly smaller here: keep
       keepP.push_back(pts_[i]);
       keepH.push_back(hs_[i]);
+      keepS.push_back(ss_[i]);
     }
   }
   // Equal duplicates: query returns their own value, both kept; acceptable.
   pts_.swap(keepP);
   hs_.swap(keepH);
+  ss_.swap(keepS);
   nodes_.clear();
   if (!pts_.empty()) buildNode(0, (int)pts_.size(), 0);
 }
@@ -107,10 +117,10 @@ void SizeField::query(int id, Vec3 x, double& best) const {
     else if (x[k] > nd.hi[k]) d = x[k] - nd.hi[k];
     d2 += d * d;
   }
-  if (nd.hmin + slope_ * std::sqrt(d2) >= best) return;
+  if (nd.hmin + nd.smin * std::sqrt(d2) >= best) return;
   if (nd.left < 0) {
     for (int i = nd.begin; i < nd.end; ++i) {
-      double v = hs_[i] + slope_ * dist(x, pts_[i]);
+      double v = hs_[i] + ss_[i] * dist(x, pts_[i]);
       if (v < best) best = v;
     }
     return;
@@ -125,7 +135,7 @@ void SizeField::query(int id, Vec3 x, double& best) const {
       else if (x[k] > n.hi[k]) d = x[k] - n.hi[k];
       dd += d * d;
     }
-    return n.hmin + slope_ * std::sqrt(dd);
+    return n.hmin + n.smin * std::sqrt(dd);
   };
   if (lb(L) <= lb(R)) {
     query(nd.left, x, best);
@@ -134,6 +144,29 @@ void SizeField::query(int id, Vec3 x, double& best) const {
     query(nd.right, x, best);
     query(nd.left, x, best);
   }
+}
+
+void SizeField::queryDominating(int id, Vec3 x, double maxSlope, double& best) const {
+  // like query(), restricted to sources whose slope is <= maxSlope
+  const Node& nd = nodes_[id];
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    double d = 0;
+    if (x[k] < nd.lo[k]) d = nd.lo[k] - x[k];
+    else if (x[k] > nd.hi[k]) d = x[k] - nd.hi[k];
+    d2 += d * d;
+  }
+  if (nd.smin > maxSlope || nd.hmin + nd.smin * std::sqrt(d2) >= best) return;
+  if (nd.left < 0) {
+    for (int i = nd.begin; i < nd.end; ++i) {
+      if (ss_[i] > maxSlope) continue;
+      double v = hs_[i] + ss_[i] * dist(x, pts_[i]);
+      if (v < best) best = v;
+    }
+    return;
+  }
+  queryDominating(nd.left, x, maxSlope, best);
+  queryDominating(nd.right, x, maxSlope, best);
 }
 
 double SizeField::size(Vec3 x) const {

@@ -22,8 +22,9 @@ class SizeField {
   /// hmax: size far from every source; grading g > 1: max ratio between neighbouring elements.
   SizeField(double hmax, double grading) : hmax_(hmax), slope_(grading - 1.0) {}
 
-  /// Adds a point source of size h (ignored when h >= hmax). Call build() afterwards.
-  void addSource(Vec3 p, double h);
+  /// Adds a point source of size h (ignored when h >= hmax). slope > 0 overrides the grading
+  /// slope (g - 1) for this source (a steeper, more local influence). Call build() afterwards.
+  void addSource(Vec3 p, double h, double slope = 0);
   /// Removes dominated sources and builds the search tree. O(n log n).
   void build();
   /// Target size at x. O(log n) typical.
@@ -37,15 +38,18 @@ class SizeField {
   struct Node {
     Vec3 lo, hi;
     double hmin;
+    double smin;     // smallest slope in the subtree
     int begin, end;  // range in pts_
     int left = -1, right = -1;
   };
   int buildNode(int begin, int end, int depth);
   void query(int node, Vec3 x, double& best) const;
+  void queryDominating(int node, Vec3 x, double maxSlope, double& best) const;
 
   double hmax_ = 1.0, slope_ = 0.3;
   std::vector<Vec3> pts_;
   std::vector<double> hs_;
+  std::vector<double> ss_;  // per-source slope
   std::vector<Node> nodes_;
   bool built_ = true;
 };

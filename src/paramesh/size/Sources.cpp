@@ -25,12 +25,20 @@ double maxCurvature(const ISurface& s, Vec2 uv) {
   return std::isfinite(k) ? k : 0.0;
 }
 
+double curvatureSize(double k, double angleRad, double deviation, double hmin, double hmax) {
+  if (!(k > 0) || !std::isfinite(k)) return hmax;
+  double h = hmax;
+  if (angleRad > 0) h = std::min(h, angleRad / k);
+  if (deviation > 0) h = std::min(h, std::sqrt(8.0 * deviation / k));
+  return std::clamp(h, hmin, hmax);
+}
+
 namespace {
 
 struct FaceSampler {
   const ISurface& s;
   const FaceDomain& dom;
-  double angle, hmin, hmax;
+  double angle, deviation, hmin, hmax;
   std::vector<SizeSource>& out;
   int evals = 0;
 
@@ -38,8 +46,7 @@ struct FaceSampler {
     p = s.eval(uv);
     const double k = maxCurvature(s, uv);
     ++evals;
-    if (k <= 0) return hmax;
-    return std::clamp(angle / k, hmin, hmax);
+    return curvatureSize(k, angle, deviation, hmin, hmax);
   }
   void cell(Vec2 lo, Vec2 hi, int depth) {
     const Vec2 c = 0.5 * (lo + hi);
@@ -62,7 +69,7 @@ struct FaceSampler {
 }  // namespace
 
 std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, double angleRad, double hmin,
-                                             double hmax) {
+                                             double hmax, double deviation) {
   std::vector<SizeSource> out;
   auto s = m.makeSurface(f);
   if (s->kind() == SurfaceKind::Plane) return out;
@@ -97,7 +104,7 @@ std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, dou
   }
   const int nu = std::clamp((int)std::ceil(Lu / hmax), 4, 256);
   const int nv = std::clamp((int)std::ceil(Lv / hmax), 4, 256);
-  FaceSampler fs{*s, dom, angleRad, hmin, hmax, out};
+  FaceSampler fs{*s, dom, angleRad, deviation, hmin, hmax, out};
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
       Vec2 lo{b.u0 + (b.u1 - b.u0) * i / nu, b.v0 + (b.v1 - b.v0) * j / nv};
@@ -108,7 +115,7 @@ std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, dou
 }
 
 std::vector<SizeSource> edgeCurvatureSources(const IGeometryModel& m, int e, double angleRad, double hmin,
-                                             double hmax) {
+                                             double hmax, double deviation) {
   std::vector<SizeSource> out;
   if (m.edgeDegenerate(e)) return out;
   auto c = m.makeCurve(e);
@@ -123,7 +130,7 @@ std::vector<SizeSource> edgeCurvatureSources(const IGeometryModel& m, int e, dou
     if (!(l > 0)) continue;
     const double k = norm(cross(d1, d2)) / (l * l * l);
     if (!(k > 0) || !std::isfinite(k)) continue;
-    const double h = std::clamp(angleRad / k, hmin, hmax);
+    const double h = curvatureSize(k, angleRad, deviation, hmin, hmax);
     if (h < hmax) out.push_back({p, h});
   }
   // refine between samples where the size is small compared to the spacing

@@ -18,13 +18,19 @@ struct SizeSource {
 /// Maximum absolute principal curvature of the surface at uv (0 where undefined).
 double maxCurvature(const ISurface& s, Vec2 uv);
 
-/// Curvature sources of face f: sizes h = angle / kappa_max (clamped to [hmin, hmax]) sampled on an
-/// adaptive (u,v) grid inside the trimmed face, refined where h is small compared to the cells.
+/// Size asked by curvature kappa: the smaller of angle/kappa (an element subtends at most `angle`
+/// radians; 0: off) and sqrt(8 deviation / kappa) (chordal deviation at most `deviation`, a length;
+/// 0: off), clamped to [hmin, hmax].
+double curvatureSize(double kappa, double angleRad, double deviation, double hmin, double hmax);
+
+/// Curvature sources of face f (sizes from curvatureSize with kappa = max principal curvature)
+/// sampled on an adaptive (u,v) grid inside the trimmed face, refined where h is small compared to
+/// the cells.
 std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, double angleRad, double hmin,
-                                             double hmax);
+                                             double hmax, double deviation = 0);
 /// Curvature sources along edge e (curve curvature).
 std::vector<SizeSource> edgeCurvatureSources(const IGeometryModel& m, int e, double angleRad, double hmin,
-                                             double hmax);
+                                             double hmax, double deviation = 0);
 /// Sources covering the entities of a local size (faces sampled at spacing ~ size).
 std::vector<SizeSource> localSizeSources(const IGeometryModel& m, const LocalSize& ls);
 

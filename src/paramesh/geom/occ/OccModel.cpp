@@ -14,6 +14,10 @@
 #include <Geom2d_Curve.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_Printer.hxx>
+#include <Message_SequenceOfPrinters.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
@@ -33,6 +37,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 
 #include "paramesh/util/Error.hpp"
@@ -289,7 +294,32 @@ std::string lowerExt(const std::string& path) {
   return e;
 }
 
+/// OpenCASCADE's readers report through the process-wide default messenger, whose printer writes
+/// to stdout. The library must not print: the printers are detached while a file is read and put
+/// back afterwards (serialised, since the messenger is global).
+class SilenceOcc {
+ public:
+  SilenceOcc() : lock_(mutex()) {
+    Handle(Message_Messenger) m = Message::DefaultMessenger();
+    saved_ = m->Printers();
+    for (Message_SequenceOfPrinters::Iterator it(saved_); it.More(); it.Next()) m->RemovePrinter(it.Value());
+  }
+  ~SilenceOcc() {
+    Handle(Message_Messenger) m = Message::DefaultMessenger();
+    for (Message_SequenceOfPrinters::Iterator it(saved_); it.More(); it.Next()) m->AddPrinter(it.Value());
+  }
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex mu;
+    return mu;
+  }
+  std::lock_guard<std::mutex> lock_;
+  Message_SequenceOfPrinters saved_;
+};
+
 TopoDS_Shape readShape(const std::string& path) {
+  SilenceOcc silence;
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw InputError("cannot open '" + path + "'");

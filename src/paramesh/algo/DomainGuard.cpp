@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/algo/DomainGuard.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace paramesh {
+
+namespace {
+// does segment [a,b] cross segment [p,q]? (proper or touching; used for parity with a ray that
+// avoids vertices in practice)
+bool crosses(Vec2 a, Vec2 b, Vec2 p, Vec2 q) {
+  auto orient = [](Vec2 u, Vec2 v, Vec2 w) { return (v.x - u.x) * (w.y - u.y) - (v.y - u.y) * (w.x - u.x); };
+  const double d1 = orient(a, b, p), d2 = orient(a, b, q), d3 = orient(p, q, a), d4 = orient(p, q, b);
+  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
+}
+}  // namespace
+
+DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
+  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
+  for (const auto& L : loops) {
+    const size_t n = L.size();
+    if (n < 3) continue;
+    for (size_t i = 0; i < n; ++i) {
+      segs_.push_back({L[i], L[(i + 1) % n]});
+      xmin = std::min(xmin, L[i].x);
+      xmax = std::max(xmax, L[i].x);
+      ymin = std::min(ymin, L[i].y);
+      ymax = std::max(ymax, L[i].y);
+    }
+  }
+  if (segs_.empty()) return;
+  const double w = std::max(xmax - xmin, 1e-300), h = std::max(ymax - ymin, 1e-300);
+  const double m = 1e-6 * std::max(w, h);
+  x0_ = xmin - m;
+  y0_ = ymin - m;
+  // about 2 segments per cell on average, square-ish cells
+  const double cells = std::max(1.0, segs_.size() / 2.0);
+  const double aspect = (w + 2 * m) / (h + 2 * m);
+  nx_ = std::clamp((int)std::ceil(std::sqrt(cells * aspect)), 1, 2048);
+  ny_ = std::clamp((int)std::ceil(cells / nx_), 1, 2048);
+  dx_ = (w + 2 * m) / nx_;
+  dy_ = (h + 2 * m) / ny_;
+  // bin segments by their bounding box (conservative)
+  std::vector<int> count(nx_ * ny_ + 1, 0);
+  auto forCells = [&](const Seg& s, auto&& fn) {
+    int i0, j0, i1, j1;
+    cellOf(std::min(s.a.x, s.b.x), std::min(s.a.y, s.b.y), i0, j0);
+    cellOf(std::max(s.a.x, s.b.x), std::max(s.a.y, s.b.y), i1, j1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) fn(j * nx_ + i);
+  };
+  for (const Seg& s : segs_) forCells(s, [&](int c) { ++count[c + 1]; });
+  for (int c = 0; c < nx_ * ny_; ++c) count[c + 1] += count[c];
+  start_ = count;
+  list_.resize(count.back());
+  std::vector<int> fill(start_.begin(), start_.end() - 1);
+  for (int k = 0; k < (int)segs_.size(); ++k) forCells(segs_[k], [&](int c) { list_[fill[c]++] = k; });
+  // parity at the centre of each cell: sweep each row from the left with a horizontal ray
+  centreInside_.assign(nx_ * ny_, 0);
+  for (int j = 0; j < ny_; ++j) {
+    const double y = y0_ + (j + 0.5) * dy_;
+    std::vector<double> xs;
+    for (const Seg& s : segs_) {
+      if ((s.a.y > y) != (s.b.y > y)) xs.push_back(s.a.x + (y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y));
+    }
+    std::sort(xs.begin(), xs.end());
+    size_t k = 0;
+    for (int i = 0; i < nx_; ++i) {
+      const double x = x0_ + (i + 0.5) * dx_;
+      while (k < xs.size() && xs[k] < x) ++k;
+      centreInside_[j * nx_ + i] = (char)(k & 1);
+    }
+  }
+}
+
+int DomainGuard::cellOf(double x, double y, int& i, int& j) const {
+  i = std::clamp((int)std::floor((x - x0_) / dx_), 0, nx_ - 1);
+  j = std::clamp((int)std::floor((y - y0_) / dy_), 0, ny_ - 1);
+  return j * nx_ + i;
+}
+
+bool DomainGuard::inside(Vec2 p) const {
+  if (segs_.empty()) return true;
+  if (p.x < x0_ || p.y < y0_ || p.x > x0_ + nx_ * dx_ || p.y > y0_ + ny_ * dy_) return false;
+  int i, j;
+  const int c = cellOf(p.x, p.y, i, j);
+  const Vec2 centre{x0_ + (i + 0.5) * dx_, y0_ + (j + 0.5) * dy_};
+  bool in = centreInside_[c];
+  for (int k = start_[c]; k < start_[c + 1]; ++k) {
+    const Seg& s = segs_[list_[k]];
+    if (crosses(s.a, s.b, p, centre)) in = !in;
+  }
+  return in;
+}
+
+bool DomainGuard::parityAt(Vec2 p) const {
+  bool in = false;
+  for (const Seg& s : segs_)
+    if ((s.a.y > p.y) != (s.b.y > p.y)) {
+      const double x = s.a.x + (p.y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y);
+      if (p.x < x) in = !in;
+    }
+  return in;
+}
+
+}  // namespace paramesh
