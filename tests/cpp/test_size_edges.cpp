@@ -235,13 +235,6 @@ TEST(EdgeDiscretizer, CircleSamplingLengthAndTurning) {
 
 /// Requirement: the sampled length of a circle is within 1e-4 of 2 pi r whatever the size field.
 TEST(EdgeDiscretizer, CircleLengthWithin1e4AtAnySize) {
-  // SPEC MISMATCH (src/paramesh/model/EdgeDiscretizer.cpp, Sampler::rec): the geometric stopping
-  // criteria (deviation > 1% of the chord, tangent cosine < 0.985) stop a circle at 128 chords of
-  // 2 pi / 128, whose total is 2 pi r (1 - 1.004e-4); the size criterion (chord > 0.2 h) only
-  // refines further when h < ~0.25 r. Reproducer: full circle r = 2.5 (BRepPrimAPI_MakeCylinder
-  // (2.5, 4)), sampleCurve(c, 0, 2 pi, nullptr) or with SizeField(1.3, 1.2): length 15.706386 vs
-  // 15.707963 (relative 1.004e-4 > 1e-4). The deviation criterion bounds the error by ~2.7e-4.
-  GTEST_SKIP() << "sampleCurve length error on a coarse circle is 1.004e-4 (see comment)";
   const double R = 2.5;
   auto m = viaBrep(BRepPrimAPI_MakeCylinder(R, 4).Shape());
   const int e = edgeOfKind(*m, CurveKind::Circle);

@@ -459,19 +459,6 @@ TEST(Triangulation, RandomStarPolygons) {
 /// buildConstrained documents a constrained *Delaunay* triangulation: every unconstrained edge must
 /// be locally Delaunay.
 TEST(Triangulation, RandomStarPolygonsAreConstrainedDelaunay) {
-  // BUG (src/paramesh/algo/Triangulation.cpp, buildConstrained + delaunayFlip): the incremental
-  // triangulation of the boundary points is not Delaunay among the real points. delaunayFlip
-  // replaces the circle test by "flip whenever it removes an edge to an auxiliary (VF_SUPER)
-  // vertex" as soon as one of the four vertices is auxiliary, and the auxiliary box is only half
-  // the span away, so Lawson's invariant does not hold; segment recovery then only retriangulates
-  // the cavities it opens and nothing restores the property afterwards. Smallest reproducer
-  // (hexagon, counter-clockwise, one reflex vertex):
-  //   (8,0) (6,10) (-12,21) (-32,0) (-20,-35) (16,-28), segments i -> i+1.
-  // Result: triangles (3,0,1) (3,1,2) (4,0,3) (5,0,4); vertex 2 lies strictly inside the
-  // circumcircle of (3,0,1) (incircle = +3760, exact) and the flip 1-3 -> 0-2 is valid and crosses
-  // no segment. Expected (the unique CDT, checked by enumerating all 9 triangulations):
-  // (0,1,2) (0,2,3) (0,3,4) (0,4,5). Also the random stars with 129 and 231 points below.
-  GTEST_SKIP() << "boundary CDT is not always Delaunay (see comment)";
   {
     CdtCase c;
     c.loops = {{{8, 0}, {6, 10}, {-12, 21}, {-32, 0}, {-20, -35}, {16, -28}}};

@@ -331,6 +331,10 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     refineFolded(T, C);
     Optimizer O(T, C);
     O.run(opt.optimizePasses);
+    if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
+      O.smoothPass();
+      O.swapPass();
+    }
     T.compact();
     // output
     std::vector<int> ref(T.verts.size());

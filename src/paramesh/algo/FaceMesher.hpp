@@ -37,6 +37,7 @@ struct FaceMeshOptions {
   int optimizePasses = 4;
   double acceptRadius = 0.7071;   ///< frontal: triangles whose metric circumradius is below are accepted
   long maxPoints = 50000000;    ///< hard cap on inserted points (guards against runaway refinement)
+  double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
 };
 
 /// Result of meshing one face. Node references: >= 0 is a global node, < 0 is new local node

@@ -38,6 +38,87 @@ bool Optimizer::valid(int ia, int ib, int ic) const {
   return true;
 }
 
+double Optimizer::deviation(int ia, int ib, int ic) const {
+  const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
+  if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return 0;
+  if (C_.planar) return 0;
+  const Vec3 g = (1.0 / 3) * (a.xyz + b.xyz + c.xyz);
+  Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
+  Vec3 p;
+  C_.project(g, s, p);
+  return dist(p, g);
+}
+
+double Optimizer::deviationEstimate(int ia, int ib, int ic) const {
+  // along an edge (x_i, x_j) of a surface of normal curvature k, (n_i - n_j).(x_j - x_i) ~ k L^2
+  // = 8 sag; the centroid sits at about half the largest edge sag
+  const TriVertex* v[3] = {&T_.verts[ia], &T_.verts[ib], &T_.verts[ic]};
+  double m = 0;
+  for (int k = 0; k < 3; ++k) {
+    const TriVertex &p = *v[k], &q = *v[(k + 1) % 3];
+    m = std::max(m, std::fabs(dot(p.normal - q.normal, q.xyz - p.xyz)) / 8.0);
+  }
+  return m;
+}
+
+bool Optimizer::deviationOk(int a, int b, int c, double allowed) const {
+  if (maxDev_ <= 0) return true;
+  allowed = std::max(allowed, maxDev_);
+  if (deviationEstimate(a, b, c) <= 0.5 * allowed) return true;
+  return deviation(a, b, c) <= allowed;
+}
+
+int Optimizer::refineDeviation(double maxDev) {
+  maxDev_ = maxDev;
+  if (maxDev <= 0 || C_.planar) return 0;
+  int changes = 0;
+  for (int round = 0; round < 10; ++round) {
+    std::vector<int> bad;
+    for (int t = 0; t < (int)T_.tris.size(); ++t) {
+      const Triangle& tr = T_.tris[t];
+      if (tr.dead) continue;
+      if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * maxDev) continue;
+      if (deviation(tr.v[0], tr.v[1], tr.v[2]) > maxDev) bad.push_back(t);
+    }
+    if (bad.empty()) break;
+    int done = 0;
+    for (int t : bad) {
+      if (T_.tris[t].dead) continue;
+      const Triangle tr = T_.tris[t];
+      if (deviation(tr.v[0], tr.v[1], tr.v[2]) <= maxDev) continue;
+      // longest free edge
+      int best = -1;
+      double bl = -1;
+      for (int i = 0; i < 3; ++i) {
+        if (T_.isConstrained(t, i)) continue;
+        const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
+        if (l > bl) {
+          bl = l;
+          best = i;
+        }
+      }
+      if (best >= 0 && splitEdge(t, best) >= 0) {
+        ++done;
+        continue;
+      }
+      // all edges on the boundary: insert the (projected) centroid
+      const Vec2 s0 = (1.0 / 3) * (T_.verts[tr.v[0]].uv + T_.verts[tr.v[1]].uv + T_.verts[tr.v[2]].uv);
+      if (!C_.inDomain(s0)) continue;
+      int e = -1;
+      const int where = T_.locate(s0, t, &e);
+      if (where < 0 || (e >= 0 && T_.isConstrained(where, e))) continue;
+      const int v = T_.addVertex(C_.makeVertex(s0));
+      const Triangulation::FlipTest none = [](int, int) { return false; };
+      T_.insert(v, where, e, none, nullptr);
+      ++done;
+    }
+    changes += done;
+    if (!done) break;
+    swapPass();
+  }
+  return changes;
+}
+
 double Optimizer::edgeRatio(int a, int b) const {
   const TriVertex &A = T_.verts[a], &B = T_.verts[b];
   return dist(A.xyz, B.xyz) / (0.5 * (A.h + B.h));
@@ -66,6 +147,10 @@ int Optimizer::swapPass() {
       const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
       const double cold = dot(n0, n1), cnew = dot(m0, m1);
       if (cnew < std::min(cold, 0.984807753) - 1e-9) continue;
+      if (maxDev_ > 0) {
+        const double allowed = std::max(deviationEstimate(a, b, c), deviationEstimate(d, c, b));
+        if (!deviationOk(a, b, d, allowed) || !deviationOk(a, d, c, allowed)) continue;
+      }
       if (T_.flip(t, i)) {
         ++flips;
         i = -1;  // triangle t changed: rescan its edges
@@ -113,7 +198,7 @@ int Optimizer::smoothPass() {
       double q1 = 1e300;
       for (int t : ring_) {
         const Triangle& tr = T_.tris[t];
-        if (!valid(tr.v[0], tr.v[1], tr.v[2])) {
+        if (!valid(tr.v[0], tr.v[1], tr.v[2]) || !deviationOk(tr.v[0], tr.v[1], tr.v[2], 0)) {
           ok = false;
           break;
         }
@@ -152,55 +237,53 @@ int Optimizer::splitPass(double longRatio) {
   }
   std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.r > b.r; });
   int splits = 0;
-  const Triangulation::FlipTest none = [](int, int) { return false; };
-  std::vector<int> touched;
   for (const Cand& c : cands) {
-    Triangle& tr = T_.tris[c.t];
-    if (tr.dead) continue;
-    // the edge may have changed since collection: re-identify by checking the ratio again
+    if (T_.tris[c.t].dead) continue;
+    // the edge may have changed since collection: check it again
+    const Triangle& tr = T_.tris[c.t];
     const int a = tr.v[nx(c.i)], b = tr.v[pv(c.i)];
     if (T_.isConstrained(c.t, c.i) || edgeRatio(a, b) <= longRatio) continue;
-    const Vec2 m = 0.5 * (T_.verts[a].uv + T_.verts[b].uv);
-    if (!C_.inDomain(m)) continue;
-    TriVertex nv = C_.makeVertex(m);
-    // the 3D midpoint of the chord, projected, is a better split point on curved faces
-    Vec2 s = m;
-    Vec3 p;
-    const Vec3 mid3 = 0.5 * (T_.verts[a].xyz + T_.verts[b].xyz);
-    if (!C_.planar && C_.project(mid3, s, p) && C_.inDomain(s)) {
-      // keep it only if it stays inside the two triangles' quad (checked after insertion)
-      nv.uv = s;
-      nv.xyz = p;
-      C_.fill(nv);
-    }
-    const int v = T_.addVertex(nv);
-    touched.clear();
-    // insert on the edge topologically at uv m, then move the vertex if its projection is valid
-    const Vec2 projected = T_.verts[v].uv;
-    const Vec3 projectedXyz = T_.verts[v].xyz;
-    T_.verts[v].uv = m;
-    T_.verts[v].xyz = C_.surf.eval(C_.toParam(m));
-    T_.insert(v, c.t, c.i, none, &touched);
-    // try the projected point
-    std::vector<int> rg;
-    T_.ring(v, rg);
-    const Vec2 keepUv = T_.verts[v].uv;
-    const Vec3 keepXyz = T_.verts[v].xyz;
-    T_.verts[v].uv = projected;
-    T_.verts[v].xyz = projectedXyz;
-    bool ok = true;
-    for (int t : rg) {
-      const Triangle& r = T_.tris[t];
-      if (orient2d(T_.verts[r.v[0]].uv, T_.verts[r.v[1]].uv, T_.verts[r.v[2]].uv) <= 0) ok = false;
-    }
-    if (!ok) {
-      T_.verts[v].uv = keepUv;
-      T_.verts[v].xyz = keepXyz;
-    }
-    C_.fill(T_.verts[v]);
-    ++splits;
+    if (splitEdge(c.t, c.i) >= 0) ++splits;
   }
   return splits;
+}
+
+int Optimizer::splitEdge(int t, int i) {
+  if (T_.isConstrained(t, i)) return -1;
+  const Triangle& tr = T_.tris[t];
+  const int a = tr.v[nx(i)], b = tr.v[pv(i)];
+  const Vec2 m = 0.5 * (T_.verts[a].uv + T_.verts[b].uv);
+  if (!C_.inDomain(m)) return -1;
+  TriVertex nv = C_.makeVertex(m);
+  // the 3D midpoint of the chord, projected, is a better split point on curved faces: use it
+  // when it keeps the new triangles valid in (u,v)
+  Vec2 projected = m;
+  Vec3 projectedXyz = nv.xyz;
+  if (!C_.planar) {
+    Vec2 s = m;
+    Vec3 p;
+    if (C_.project(0.5 * (T_.verts[a].xyz + T_.verts[b].xyz), s, p) && C_.inDomain(s)) {
+      projected = s;
+      projectedXyz = p;
+    }
+  }
+  const int v = T_.addVertex(nv);
+  const Triangulation::FlipTest none = [](int, int) { return false; };
+  T_.insert(v, t, i, none, nullptr);
+  std::vector<int> rg;
+  T_.ring(v, rg);
+  T_.verts[v].uv = projected;
+  T_.verts[v].xyz = projectedXyz;
+  for (int r : rg) {
+    const Triangle& R = T_.tris[r];
+    if (orient2d(T_.verts[R.v[0]].uv, T_.verts[R.v[1]].uv, T_.verts[R.v[2]].uv) <= 0) {
+      T_.verts[v].uv = m;
+      T_.verts[v].xyz = nv.xyz;
+      break;
+    }
+  }
+  C_.fill(T_.verts[v]);
+  return v;
 }
 
 bool Optimizer::collapse(int t, int i) {

@@ -21,11 +21,19 @@ class Optimizer {
   int smoothPass();
   /// Splits edges longer than `longRatio` * h (3D), longest first. Returns the number of splits.
   int splitPass(double longRatio);
+  /// Splits edge i of triangle t at its surface midpoint (projected 3D chord midpoint when valid).
+  /// Returns the new vertex, or -1 when the edge is constrained or the midpoint leaves the face.
+  int splitEdge(int t, int i);
   /// Collapses edges shorter than `shortRatio` * h when no edge longer than maxRatio * h appears.
   int collapsePass(double shortRatio, double maxRatio);
   /// The default schedule: split/collapse, then alternate swaps and smoothing.
   void run(int passes);
 
+  /// Distance from the centroid of triangle (a,b,c) to the surface (chordal deviation).
+  double deviation(int a, int b, int c) const;
+  /// Refines triangles whose chordal deviation exceeds maxDev (split the longest free edge, or
+  /// insert the centroid). Afterwards swaps and smoothing never create such triangles.
+  int refineDeviation(double maxDev);
   /// 3D quality of triangle t (pole-degenerate triangles count as 1: they vanish in 3D).
   double quality(int t) const;
   /// True when triangle (a,b,c) is valid: counter-clockwise in (u,v) and facing like the surface.
@@ -34,9 +42,13 @@ class Optimizer {
  private:
   double edgeRatio(int a, int b) const;
   bool collapse(int t, int i);
+  /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
+  double deviationEstimate(int a, int b, int c) const;
+  bool deviationOk(int a, int b, int c, double allowed) const;
   Triangulation& T_;
   const SurfaceContext& C_;
   std::vector<int> ring_;
+  double maxDev_ = 0;  ///< 0: no deviation guard
 };
 
 }  // namespace paramesh

@@ -552,6 +552,18 @@ bool Triangulation::buildConstrained(const std::vector<std::pair<int, int>>& seg
   }
   // every boundary vertex must still be used; drop super vertices
   compact();
+  // the auxiliary box bent the circle tests near the hull: restore the constrained Delaunay
+  // property among the real points by flips (each flip removes a local violation)
+  for (int sweep = 0; sweep < 64; ++sweep) {
+    int flips = 0;
+    for (int t = 0; t < (int)tris.size(); ++t)
+      for (int i = 0; i < 3; ++i) {
+        const int u = tris[t].n[i];
+        if (u < t || isConstrained(t, i)) continue;
+        if (delaunayFlip(t, i) && flip(t, i)) ++flips;
+      }
+    if (!flips) break;
+  }
   for (int v = 0; v < (int)verts.size(); ++v)
     if (verts[v].tri < 0) {
       why = "a boundary point is outside the face domain";

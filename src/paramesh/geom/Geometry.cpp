@@ -106,27 +106,27 @@ bool ISurface::project(Vec3 x, Vec2& uv, Vec3* out, double margin) const {
     if (std::fabs(sv) > maxStepV) scale = std::min(scale, maxStepV / std::fabs(sv));
     su *= scale;
     sv *= scale;
-    // line search on the distance
+    // line search on the distance; near the foot point the change of |S - x|^2 is below its
+    // round-off, so a step that does not increase it beyond that is accepted as well
     bool improved = false;
+    const double roundoff = 8e-16 * (norm(x) + norm(d.p)) * std::sqrt(f) + 1e-300;
     for (int ls = 0; ls < 12; ++ls) {
       Vec2 q{std::clamp(uv.x + su, L.lo[0], L.hi[0]), std::clamp(uv.y + sv, L.lo[1], L.hi[1])};
       SurfaceD2 dq;
       d2(q, dq);
       Vec3 rq = dq.p - x;
       double fq = norm2(rq);
-      if (fq <= f) {
+      if (fq <= f + roundoff) {
         const double du = std::fabs(q.x - uv.x), dv = std::fabs(q.y - uv.y);
         uv = q;
         d = dq;
         r = rq;
-        const double fold = f;
         f = fq;
         improved = true;
         // parameter step negligible: converged
-        if (du <= 1e-14 * (1 + std::fabs(uv.x)) + 1e-15 * (b.u1 - b.u0) &&
-            dv <= 1e-14 * (1 + std::fabs(uv.y)) + 1e-15 * (b.v1 - b.v0))
+        if (du <= 1e-15 * (1 + std::fabs(uv.x)) + 1e-16 * (b.u1 - b.u0) &&
+            dv <= 1e-15 * (1 + std::fabs(uv.y)) + 1e-16 * (b.v1 - b.v0))
           ok = true;
-        if (fold - fq <= 1e-24 * (1 + fold)) ok = true;
         break;
       }
       su *= 0.5;

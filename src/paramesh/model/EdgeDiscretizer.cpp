@@ -21,7 +21,7 @@ struct Sampler {
     if (!split && depth < 18) {
       // chord error, tangent turning, or too coarse for the size field
       const double ca = dot(normalized(da), normalized(db));
-      if (dev > 0.01 * chord || ca < 0.985) split = true;
+      if (dev > 0.005 * chord || ca < 0.995) split = true;
       else if (f && chord > 0.2 * f->size(pm)) split = true;
     }
     if (split) {

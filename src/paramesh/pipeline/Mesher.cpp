@@ -131,13 +131,15 @@ struct Mesher::Impl {
     std::vector<std::vector<SizeSource>> per;
     if (p.curvatureAngle > 0 || p.maxDeviation > 0) {
       const double ang = p.curvatureAngle * kPi / 180.0;
-      const double dev = p.maxDeviation * p.size;
+      // edges: chords of boundary edges cannot be refined inside a face, so their sag is bounded
+      // by 1D sizes (a boundary chord with sag s leaves ~2s/3 at the centroid of its triangle)
+      const double dev = 1.4 * p.maxDeviation * p.size;
       const int nf = model.numFaces(), ne = model.numEdges();
       per.resize(nf + ne);
       parallelFor(nf + ne, threads, [&](int i) {
         progress.poll();
         try {
-          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax, dev)
+          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax)
                           : edgeCurvatureSources(model, i - nf, ang, p.minSize, hmax, dev);
         } catch (const Cancelled&) {
           throw;
@@ -227,6 +229,7 @@ struct Mesher::Impl {
       }
       if (!em.degenerate)
         for (size_t i = 0; i + 1 < n; ++i) {
+          if (em.nodes[i] == em.nodes[i + 1]) continue;  // an edge shorter than the merge tolerance
           mesh.segments.push_back({em.nodes[i], em.nodes[i + 1]});
           mesh.segmentEdge.push_back(e + 1);
         }
@@ -380,6 +383,11 @@ struct Mesher::Impl {
         why = "wire " + std::to_string(w + 1) + " has fewer than 3 distinct points";
         return false;
       }
+      // consecutive images of one node (a collapsed tiny edge) behave like pole copies
+      for (size_t i = 0; i < clean.size(); ++i) {
+        const size_t j = (i + 1) % clean.size();
+        if (clean[i].node == clean[j].node) clean[i].pole = clean[j].pole = true;
+      }
       fb.loops.push_back(std::move(clean));
     }
     if (fb.loops.empty()) {
@@ -448,6 +456,7 @@ struct Mesher::Impl {
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight[a] > weight[b]; });
     FaceMeshOptions fo;
     fo.optimizePasses = p.optimizePasses;
+    fo.maxDeviation = p.maxDeviation * p.size;
     parallelFor(nf, threads, [&](int f) {
       progress.poll();
       Timer ft;

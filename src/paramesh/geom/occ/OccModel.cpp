@@ -37,6 +37,8 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <iostream>
+#include <streambuf>
 #include <mutex>
 #include <sstream>
 
@@ -297,26 +299,40 @@ std::string lowerExt(const std::string& path) {
 /// OpenCASCADE's readers report through the process-wide default messenger, whose printer writes
 /// to stdout. The library must not print: the printers are detached while a file is read and put
 /// back afterwards (serialised, since the messenger is global).
+/// Some readers also write to std::cout directly (e.g. BRepTools::Read on a bad header): its
+/// buffer is swapped for a null one during the read.
 class SilenceOcc {
  public:
   SilenceOcc() : lock_(mutex()) {
     Handle(Message_Messenger) m = Message::DefaultMessenger();
     saved_ = m->Printers();
     for (Message_SequenceOfPrinters::Iterator it(saved_); it.More(); it.Next()) m->RemovePrinter(it.Value());
+    coutBuf_ = std::cout.rdbuf(&null_);
   }
   ~SilenceOcc() {
+    std::cout.rdbuf(coutBuf_);
     Handle(Message_Messenger) m = Message::DefaultMessenger();
     for (Message_SequenceOfPrinters::Iterator it(saved_); it.More(); it.Next()) m->AddPrinter(it.Value());
   }
 
  private:
+  struct NullBuf : std::streambuf {
+    int overflow(int c) override { return traits_type::not_eof(c); }
+  };
   static std::mutex& mutex() {
     static std::mutex mu;
     return mu;
   }
   std::lock_guard<std::mutex> lock_;
   Message_SequenceOfPrinters saved_;
+  NullBuf null_;
+  std::streambuf* coutBuf_ = nullptr;
 };
+
+/// True when text starts like an OpenCASCADE BREP ("DBRep_DrawableShape" or "CASCADE Topology").
+bool looksLikeBrep(const std::string& head) {
+  return head.find("CASCADE Topology V") != std::string::npos;
+}
 
 TopoDS_Shape readShape(const std::string& path) {
   SilenceOcc silence;
@@ -342,6 +358,12 @@ TopoDS_Shape readShape(const std::string& path) {
       r.TransferRoots();
       shape = r.OneShape();
     } else if (ext == "brep" || ext == "brp") {
+      std::ifstream in(path, std::ios::binary);
+      std::string head(512, '\0');
+      in.read(&head[0], (std::streamsize)head.size());
+      head.resize((size_t)in.gcount());
+      if (!looksLikeBrep(head))
+        throw InputError("'" + path + "' is not an OpenCASCADE BREP file (no 'CASCADE Topology' header)");
       BRep_Builder b;
       if (!BRepTools::Read(shape, path.c_str(), b))
         throw InputError("'" + path + "' is not a readable BREP file");
@@ -369,6 +391,9 @@ std::unique_ptr<IGeometryModel> loadOccModel(const std::string& path) {
 
 std::unique_ptr<IGeometryModel> loadOccModelFromBrepString(const std::string& brep) {
   TopoDS_Shape shape;
+  if (!looksLikeBrep(brep.substr(0, 512)))
+    throw InputError("not a BREP string (no 'CASCADE Topology' header)");
+  SilenceOcc silence;
   try {
     std::istringstream in(brep);
     BRep_Builder b;
