@@ -50,22 +50,9 @@ FaceDomain::FaceDomain(const IGeometryModel& m, int f, const ISurface& s, int pe
     }
   }
   if (loops_.empty()) box_ = s.bounds();
+  guard_ = DomainGuard(loops_);
 }
 
-bool FaceDomain::inside(Vec2 p) const {
-  if (loops_.empty()) return true;
-  bool in = false;
-  for (const auto& L : loops_) {
-    const size_t n = L.size();
-    for (size_t i = 0, j = n - 1; i < n; j = i++) {
-      const Vec2 a = L[i], b = L[j];
-      if ((a.y > p.y) != (b.y > p.y)) {
-        const double x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-        if (p.x < x) in = !in;
-      }
-    }
-  }
-  return in;
-}
+bool FaceDomain::inside(Vec2 p) const { return guard_.inside(p); }
 
 }  // namespace paramesh

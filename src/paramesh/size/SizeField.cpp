@@ -92,9 +92,10 @@ void SizeField::build() {
   std::vector<Vec3> keepP;
   std::vector<double> keepH, keepS;
   for (size_t i = 0; i < pts_.size(); ++i) {
-    double best = hmax_;
+    double best = hs_[i] * (1 - 1e-12);  // look only for a strictly smaller value (early exit)
+    const double start = best;
     queryDominating(0, pts_[i], ss_[i], best);
-    if (best >= hs_[i] * (1 - 1e-12)) {  // nothing strictly smaller here: keep
+    if (best >= start) {  // nothing strictly smaller here: keep
       keepP.push_back(pts_[i]);
       keepH.push_back(hs_[i]);
       keepS.push_back(ss_[i]);
@@ -165,7 +166,10 @@ void SizeField::queryDominating(int id, Vec3 x, double maxSlope, double& best) c
     }
     return;
   }
+  // any strictly smaller value decides: stop at the first one found
+  const double before = best;
   queryDominating(nd.left, x, maxSlope, best);
+  if (best < before) return;
   queryDominating(nd.right, x, maxSlope, best);
 }
 

@@ -9,9 +9,7 @@
 
 namespace paramesh {
 
-double maxCurvature(const ISurface& s, Vec2 uv) {
-  SurfaceD2 d;
-  s.d2(uv, d);
+double curvatureFromD2(const SurfaceD2& d) {
   const Vec3 c = cross(d.du, d.dv);
   const double lc = norm(c);
   const double E = dot(d.du, d.du), F = dot(d.du, d.dv), G = dot(d.dv, d.dv);
@@ -23,6 +21,12 @@ double maxCurvature(const ISurface& s, Vec2 uv) {
   const double H = (E * N - 2 * F * M + G * L) / (2 * W);
   const double k = std::fabs(H) + std::sqrt(std::max(H * H - K, 0.0));
   return std::isfinite(k) ? k : 0.0;
+}
+
+double maxCurvature(const ISurface& s, Vec2 uv) {
+  SurfaceD2 d;
+  s.d2(uv, d);
+  return curvatureFromD2(d);
 }
 
 double curvatureSize(double k, double angleRad, double deviation, double hmin, double hmax) {
@@ -40,29 +44,26 @@ struct FaceSampler {
   const FaceDomain& dom;
   double angle, deviation, hmin, hmax;
   std::vector<SizeSource>& out;
-  int evals = 0;
+  long evals = 0;
 
-  double hAt(Vec2 uv, Vec3& p) {
-    p = s.eval(uv);
-    const double k = maxCurvature(s, uv);
-    ++evals;
-    return curvatureSize(k, angle, deviation, hmin, hmax);
-  }
+  /// One evaluation (second derivatives) at the cell centre gives the size asked there and the
+  /// cell's 3D extent (first order); cells larger than the size are split, leaves emit a source.
   void cell(Vec2 lo, Vec2 hi, int depth) {
     const Vec2 c = 0.5 * (lo + hi);
-    Vec3 pc;
-    const double h = hAt(c, pc);
-    // 3D extent of the cell
-    const Vec3 p00 = s.eval(lo), p11 = s.eval(hi), p01 = s.eval({lo.x, hi.y}), p10 = s.eval({hi.x, lo.y});
-    const double ext = std::max(dist(p00, p11), dist(p01, p10));
-    if (h < hmax && dom.inside(c)) out.push_back({pc, h});
-    if (depth < 9 && ext > 1.5 * h && evals < 400000) {
-      const Vec2 m = c;
-      cell(lo, m, depth + 1);
-      cell({m.x, lo.y}, {hi.x, m.y}, depth + 1);
-      cell({lo.x, m.y}, {m.x, hi.y}, depth + 1);
-      cell(m, hi, depth + 1);
+    SurfaceD2 d;
+    s.d2(c, d);
+    ++evals;
+    const double k = curvatureFromD2(d);
+    const double h = curvatureSize(k, angle, deviation, hmin, hmax);
+    const double ext = norm(d.du) * (hi.x - lo.x) + norm(d.dv) * (hi.y - lo.y);
+    if (depth < 10 && ext > 1.2 * h && h < hmax && evals < 2000000) {
+      cell(lo, c, depth + 1);
+      cell({c.x, lo.y}, {hi.x, c.y}, depth + 1);
+      cell({lo.x, c.y}, {c.x, hi.y}, depth + 1);
+      cell(c, hi, depth + 1);
+      return;
     }
+    if (h < hmax && dom.inside(c)) out.push_back({d.p, h});
   }
 };
 

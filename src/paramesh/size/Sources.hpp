@@ -17,6 +17,8 @@ struct SizeSource {
 
 /// Maximum absolute principal curvature of the surface at uv (0 where undefined).
 double maxCurvature(const ISurface& s, Vec2 uv);
+/// The same from already evaluated derivatives.
+double curvatureFromD2(const SurfaceD2& d);
 
 /// Size asked by curvature kappa: the smaller of angle/kappa (an element subtends at most `angle`
 /// radians; 0: off) and sqrt(8 deviation / kappa) (chordal deviation at most `deviation`, a length;
