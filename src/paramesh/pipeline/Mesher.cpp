@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <mutex>
 #include <numeric>
 #include <set>
 #include <sstream>
@@ -225,7 +224,7 @@ struct Mesher::Impl {
         } else if (em.degenerate) {
           em.nodes[i] = v0 >= 0 ? vertexNode[v0] : (v1 >= 0 ? vertexNode[v1] : -1);
         } else {
-          em.nodes[i] = mesh.addNode(edgePoint(e, *c, em.t[i]), NodeKind::Edge, e + 1, {em.t[i], 0});
+          em.nodes[i] = mesh.addNode(c->eval(em.t[i]), NodeKind::Edge, e + 1, {em.t[i], 0});
         }
       }
       if (!em.degenerate)
@@ -255,40 +254,6 @@ struct Mesher::Impl {
       }
     }
   }
-
-  /// The node position at parameter t of edge e: on the 3D curve, unless the curve lies off its
-  /// faces (a tolerant edge, typical of IGES): then the mean of the points the faces' pcurves give,
-  /// which are on the surfaces. Nodes so stay on the CAD faces where the 3D curve does not.
-  Vec3 edgePoint(int e, const ICurve& c, double t) const {
-    const Vec3 p = c.eval(t);
-    if (model.edgeTolerance(e) <= 1e-9 * model.boundingBox().diagonal()) return p;
-    Vec3 sum{0, 0, 0};
-    int n = 0;
-    for (int f : model.edgeFaces(e)) {
-      const auto& wires = model.faceWires(f);
-      for (size_t w = 0; w < wires.size() && n < 8; ++w)
-        for (size_t k = 0; k < wires[w].uses.size(); ++k) {
-          if (wires[w].uses[k].edge != e) continue;
-          auto pc = model.makePCurve(f, (int)w, (int)k);
-          if (!pc) continue;
-          auto s = surfaceCache(f);
-          const Vec3 q = s->eval(pc->eval(t));
-          if (dist(q, p) > 100 * model.edgeTolerance(e) + 1e-9) continue;  // a broken pcurve
-          sum += q;
-          ++n;
-          break;  // one use per face (a seam's two pcurves give the same point)
-        }
-    }
-    return n ? sum * (1.0 / n) : p;
-  }
-  std::shared_ptr<ISurface> surfaceCache(int f) const {
-    std::lock_guard<std::mutex> g(cacheMu_);
-    auto& s = surfCache_[f];
-    if (!s) s = model.makeSurface(f);
-    return s;
-  }
-  mutable std::mutex cacheMu_;
-  mutable std::map<int, std::shared_ptr<ISurface>> surfCache_;
 
   // ---------------------------------------------------------------- face boundaries
   bool buildBoundary(int f, const ISurface& s, FaceBoundary& fb, std::string& why) const {
