@@ -164,7 +164,8 @@ void Triangulation::insert(int v, int t, int e, const FlipTest& test, std::vecto
     bool Cdc = false, Cbd = false;
     if (u >= 0) {
       Triangle U = tris[u];
-      int j = edgeTo(u, t);
+      const int j = edgeTo(u, t);
+      PM_CHECK(j >= 0, "triangle adjacency is not symmetric");
       d = U.v[j];
       Nbd = U.n[nx(j)];  // U = (d, c, b): edge opposite c is (b, d)
       Ndc = U.n[pv(j)];  // edge opposite b is (d, c)

@@ -93,6 +93,9 @@ struct Mesher::Impl {
     for (size_t i = 0; i < p.boundaryLayers.size(); ++i)
       for (int e : p.boundaryLayers[i].edges)
         checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
+    if (p.order != 1) throw ParameterError("order 2 (mid-nodes on the CAD) is not available yet");
+    if (p.quads) throw ParameterError("quad-dominant meshing (quads) is not available yet");
+    if (!p.boundaryLayers.empty()) throw ParameterError("surface boundary layers are not available yet");
     threads = resolveThreads(p.threads);
     report.size = p.size;
     report.minSize = p.minSize;

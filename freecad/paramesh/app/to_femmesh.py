@@ -1,0 +1,98 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""MeshResult -> FreeCAD Mesh.Mesh / Fem.FemMesh (no GUI).
+
+FreeCAD 0.20.2 traps handled here: FreeCAD must be imported before Part/Mesh/Fem; Mesh.Mesh needs
+FreeCAD.Vector points and tuple facets (plain tuples crash it), so meshes are handed over as a
+binary STL file, which Mesh reads in C++ (measured: see tests/freecad/test_bridge.py).
+"""
+import os
+import tempfile
+
+import numpy as np
+
+
+def _freecad():
+    import FreeCAD  # noqa: F401  (must come first)
+    return FreeCAD
+
+
+def _triangles_with_quads(result):
+    tris = np.asarray(result.triangles, dtype=np.int64)
+    quads = np.asarray(result.quads, dtype=np.int64)
+    if len(quads):
+        tris = np.concatenate([tris, quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    return tris
+
+
+def result_to_mesh(result):
+    """A Mesh.Mesh with the triangles (quads split in two), one segment per CAD face."""
+    _freecad()
+    import Mesh
+    P = np.asarray(result.nodes, dtype=np.float64)
+    T = _triangles_with_quads(result)
+    faces = np.concatenate([result.triangle_face, result.quad_face, result.quad_face])
+    order = np.argsort(faces, kind="stable")  # group facets by CAD face for the segments
+    T = T[order]
+    faces = faces[order]
+    v = P[T]  # (M, 3, 3)
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    ln = np.linalg.norm(n, axis=1)
+    n = n / np.where(ln > 0, ln, 1)[:, None]
+    rec = np.zeros(len(T), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"] = n
+    rec["v"] = v
+    fd, path = tempfile.mkstemp(suffix=".stl", prefix="paramesh_")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(b"ParaMesh".ljust(80, b" "))
+            f.write(np.uint32(len(T)).tobytes())
+            f.write(rec.tobytes())
+        mesh = Mesh.Mesh(path)
+    finally:
+        os.remove(path)
+    # STL merges coincident points in the same order as the facets: segments map 1:1 to facets
+    if mesh.CountFacets == len(T) and len(T):
+        bounds = np.flatnonzero(np.diff(faces)) + 1
+        starts = np.concatenate([[0], bounds])
+        ends = np.concatenate([bounds, [len(T)]])
+        for s, e in zip(starts, ends):
+            mesh.addSegment(list(range(int(s), int(e))))
+    return mesh
+
+
+def result_to_femmesh(result, groups=True):
+    """A Fem.FemMesh: tria3/quad4 (tria6/quad8 when order 2), node ids = index + 1, element ids
+    consecutive (triangles then quads), one face group per CAD face named 'Face<i>'."""
+    _freecad()
+    import Fem
+    fm = Fem.FemMesh()
+    P = np.asarray(result.nodes, dtype=np.float64)
+    add_node = fm.addNode
+    for i, (x, y, z) in enumerate(P.tolist(), start=1):
+        add_node(x, y, z, i)
+    order2 = int(result.order) == 2
+    T = np.asarray(result.triangles, dtype=np.int64) + 1
+    Q = np.asarray(result.quads, dtype=np.int64) + 1
+    if order2:
+        T = np.concatenate([T, np.asarray(result.triangle_mid, dtype=np.int64) + 1], axis=1)
+        Q = np.concatenate([Q, np.asarray(result.quad_mid, dtype=np.int64) + 1], axis=1) if len(Q) else Q
+    add_face = fm.addFace
+    eid = 0
+    for row in T.tolist():
+        eid += 1
+        add_face(row, eid)
+    for row in Q.tolist():
+        eid += 1
+        add_face(row, eid)
+    if groups:
+        faces = np.concatenate([result.triangle_face, result.quad_face]).astype(np.int64)
+        ids = np.arange(1, len(faces) + 1)
+        order = np.argsort(faces, kind="stable")
+        faces, ids = faces[order], ids[order]
+        bounds = np.flatnonzero(np.diff(faces)) + 1
+        for chunk_f, chunk_ids in zip(np.split(faces, bounds), np.split(ids, bounds)):
+            if not len(chunk_f):
+                continue
+            g = fm.addGroup(f"Face{int(chunk_f[0])}", "Face")
+            fm.addGroupElements(g, chunk_ids.tolist())
+    return fm

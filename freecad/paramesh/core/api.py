@@ -1,0 +1,170 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""The FreeCAD-free Python API: mesh a file, a BREP string or (duck-typed) a Part.Shape."""
+import json
+import os
+import threading
+
+import numpy as np
+
+from .params import MeshParams
+
+try:
+    from .. import _native
+except ImportError as e:  # pragma: no cover - a missing build is reported clearly on first use
+    _native = None
+    _import_error = e
+
+if _native is not None:
+    ParaMeshError = _native.ParaMeshError
+    ParameterError = _native.ParameterError
+    InputError = _native.InputError
+    Cancelled = _native.Cancelled
+else:  # pragma: no cover
+    class ParaMeshError(RuntimeError):
+        pass
+
+    class ParameterError(ParaMeshError, ValueError):
+        pass
+
+    class InputError(ParaMeshError, ValueError):
+        pass
+
+    class Cancelled(ParaMeshError):
+        pass
+
+
+def _require_native():
+    if _native is None:
+        raise ImportError("the ParaMesh native module is not built: run `cmake -S . -B build && cmake --build "
+                          f"build` in the repository ({_import_error})")
+
+
+class MeshResult:
+    """A surface mesh and its report.
+
+    Arrays (0-based indices, C order): ``nodes`` (N, 3) float64; ``triangles`` (M, 3) int32,
+    counter-clockwise seen from outside the CAD face; ``quads`` (K, 4) int32; ``triangle_face`` (M,)
+    and ``quad_face`` (K,) int32 1-based CAD faces; ``face_of_element`` (M+K,) the same for
+    triangles then quads; ``node_dim`` (N,) 0/1/2 (vertex/edge/face) and ``node_entity`` (N,) its
+    1-based number; ``node_param`` (N, 2); ``segments`` (S, 2) and ``segment_edge`` (S,) the mesh
+    edges on CAD edges. ``report`` is the run report (dict); ``faces`` its per-face list.
+    """
+
+    def __init__(self, native_result):
+        self._r = native_result
+        self._cache = {}
+
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        if name not in self._cache:
+            self._cache[name] = getattr(self._r, name)
+        return self._cache[name]
+
+    @property
+    def face_of_element(self):
+        return np.concatenate([self.triangle_face, self.quad_face]).astype(np.int32)
+
+    @property
+    def report(self):
+        if "report" not in self._cache:
+            self._cache["report"] = json.loads(self._r.report_json)
+        return self._cache["report"]
+
+    @property
+    def faces(self):
+        return self.report["faces"]
+
+    @property
+    def failed_faces(self):
+        return [f for f in self.faces if f["status"] != "ok"]
+
+    def write(self, path):
+        """Writes .msh (Gmsh 4.1), .vtu, .stl or .inp (format from the extension)."""
+        self._r.write(os.fspath(path))
+
+    def render_png(self, path, **kw):
+        """Writes a PNG picture (width, height, azimuth, elevation, color='face'|'quality', focus)."""
+        self._r.render_png(os.fspath(path), **kw)
+
+    def to_mesh(self):
+        """A FreeCAD Mesh.Mesh (needs FreeCAD)."""
+        from ..app.to_femmesh import result_to_mesh
+        return result_to_mesh(self)
+
+    def to_femmesh(self, groups=True):
+        """A FreeCAD Fem.FemMesh with one face group per CAD face named 'Face<i>' (needs FreeCAD)."""
+        from ..app.to_femmesh import result_to_femmesh
+        return result_to_femmesh(self, groups=groups)
+
+    def __repr__(self):
+        r = self.report
+        return (f"<MeshResult {r['status']}: {r['counts']['nodes']} nodes, {r['counts']['triangles']} triangles, "
+                f"{r['counts']['quads']} quads>")
+
+
+class MeshJob:
+    """A meshing run that can be cancelled from another thread and reports progress.
+
+    job = MeshJob(source, size=2.0); job.run(progress=cb) in a worker thread; job.cancel() from
+    anywhere. progress(fraction, stage) is called from worker threads; returning False cancels.
+    """
+
+    def __init__(self, source, params=None, **kw):
+        _require_native()
+        if params is not None and kw:
+            raise TypeError("give either a MeshParams object or keyword parameters, not both")
+        if params is not None and not isinstance(params, MeshParams):
+            raise TypeError(f"params must be a MeshParams, got {type(params).__name__}")
+        self.params = params if params is not None else MeshParams.from_kwargs(**kw)
+        self.params.validate()
+        self.model = _load(source)
+        self._mesher = _native.Mesher(self.model, self.params.to_native())
+        self._lock = threading.Lock()
+
+    def run(self, progress=None, log=None):
+        return MeshResult(self._mesher.run(progress, log))
+
+    def cancel(self):
+        self._mesher.cancel()
+
+
+def _load(source):
+    if _native is not None and isinstance(source, _native.Model):
+        return source
+    if hasattr(source, "exportBrepToString"):  # a Part.Shape (FreeCAD), with its placement
+        if source.isNull():
+            raise InputError("the shape is empty (null shape)")
+        if not source.Faces:
+            raise InputError(f"the shape has no face to mesh (type {source.ShapeType})")
+        return _native.Model.from_brep(source.exportBrepToString())
+    if isinstance(source, (str, os.PathLike)):
+        s = os.fspath(source)
+        if "CASCADE Topology" in s[:200]:
+            return _native.Model.from_brep(s)
+        if "\n" in s:
+            raise InputError("not a BREP string (no 'CASCADE Topology' header) and not a file path")
+        return _native.Model.from_file(s)
+    if isinstance(source, bytes):
+        return _load(source.decode("utf-8", "replace"))
+    raise TypeError(f"cannot mesh a {type(source).__name__}: give a file path, a BREP string or a Part.Shape")
+
+
+def mesh_shape(shape_or_path, progress=None, log=None, **params):
+    """Meshes a Part.Shape, a STEP/IGES/BREP file path or a BREP string; returns a MeshResult.
+
+    Parameters are the CLI's options in snake_case (see MeshParams): size, min_size, max_size,
+    curvature_angle, max_deviation, grading, threads, order, quads, local_sizes, boundary_layers.
+    """
+    return MeshJob(shape_or_path, **params).run(progress=progress, log=log)
+
+
+def mesh_file(path, **params):
+    """Meshes a STEP/IGES/BREP file."""
+    return mesh_shape(os.fspath(path), **params)
+
+
+def mesh_brep(brep, **params):
+    """Meshes an OpenCASCADE BREP text (Part.Shape.exportBrepToString())."""
+    _require_native()
+    return MeshJob(_native.Model.from_brep(brep), **params).run()

@@ -1,0 +1,288 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// pybind11 glue: paramesh._native. Thin by design: parameters come in as the C++ struct, results go
+// out as owned numpy arrays (float64 coordinates, int32 indices), errors as typed Python exceptions.
+// The GIL is released while meshing; progress callbacks re-acquire it.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <cstring>
+#include <memory>
+
+#include "paramesh/geom/occ/OccModel.hpp"
+#include "paramesh/io/MeshWriters.hpp"
+#include "paramesh/io/PngRender.hpp"
+#include "paramesh/pipeline/Mesher.hpp"
+#include "paramesh/pipeline/ReportJson.hpp"
+#include "paramesh/util/Error.hpp"
+
+namespace py = pybind11;
+using namespace paramesh;
+
+namespace {
+
+template <class T>
+py::array_t<T> owned(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
+  auto* heap = new std::vector<T>(std::move(v));
+  py::capsule free(heap, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, heap->data(), free);
+}
+
+py::array_t<double> vec3Array(const std::vector<Vec3>& v) {
+  std::vector<double> d(v.size() * 3);
+  if (!v.empty()) std::memcpy(d.data(), v.data(), d.size() * sizeof(double));
+  return owned(std::move(d), {(py::ssize_t)v.size(), 3});
+}
+py::array_t<double> vec2Array(const std::vector<Vec2>& v) {
+  std::vector<double> d(v.size() * 2);
+  if (!v.empty()) std::memcpy(d.data(), v.data(), d.size() * sizeof(double));
+  return owned(std::move(d), {(py::ssize_t)v.size(), 2});
+}
+template <size_t K>
+py::array_t<int32_t> intArray(const std::vector<std::array<int, K>>& v) {
+  std::vector<int32_t> d(v.size() * K);
+  for (size_t i = 0; i < v.size(); ++i)
+    for (size_t k = 0; k < K; ++k) d[i * K + k] = v[i][k];
+  return owned(std::move(d), {(py::ssize_t)v.size(), (py::ssize_t)K});
+}
+py::array_t<int32_t> intVector(const std::vector<int>& v) {
+  std::vector<int32_t> d(v.begin(), v.end());
+  return owned(std::move(d), {(py::ssize_t)v.size()});
+}
+
+/// A geometry model held by Python (shared so that a Mesher keeps it alive).
+struct PyModel {
+  std::shared_ptr<IGeometryModel> m;
+};
+
+/// A finished run: the mesh and its report, arrays handed out as numpy copies.
+struct PyResult {
+  SurfaceMesh mesh;
+  Report report;
+};
+
+/// One meshing job: run() in any thread (GIL released), cancel() from any other thread.
+class PyMesher {
+ public:
+  PyMesher(PyModel model, MeshParams p) : model_(model.m), params_(std::move(p)) { params_.validate(); }
+
+  std::shared_ptr<PyResult> run(py::object progress, py::object log) {
+    LogSink sink;
+    if (!log.is_none())
+      sink = [log](LogLevel l, const std::string& msg) {
+        py::gil_scoped_acquire g;
+        try {
+          log((int)l, msg);
+        } catch (py::error_already_set&) {
+          // a failing Python log callback must not take the run down
+        }
+      };
+    ProgressCallback cb = [this, progress](double f, const std::string& stage) -> bool {
+      if (cancel_.load()) return false;
+      if (progress.is_none()) return true;
+      py::gil_scoped_acquire g;
+      try {
+        py::object r = progress(f, stage);
+        return r.is_none() || r.cast<bool>();
+      } catch (py::error_already_set&) {
+        return false;  // an exception in the callback cancels the run
+      }
+    };
+    MeshOutput out;
+    {
+      Mesher mesher(*model_, params_, sink, cb);
+      {
+        std::lock_guard<std::mutex> g(mu_);
+        active_ = &mesher;
+      }
+      struct Clear {
+        PyMesher* self;
+        ~Clear() {
+          std::lock_guard<std::mutex> g(self->mu_);
+          self->active_ = nullptr;
+        }
+      } clear{this};
+      if (cancel_.load()) throw Cancelled();
+      py::gil_scoped_release nogil;
+      out = mesher.run();
+    }
+    auto r = std::make_shared<PyResult>();
+    r->mesh = std::move(out.mesh);
+    r->report = std::move(out.report);
+    return r;
+  }
+
+  void cancel() {
+    cancel_ = true;
+    std::lock_guard<std::mutex> g(mu_);
+    if (active_) active_->cancel();
+  }
+
+ private:
+  std::shared_ptr<IGeometryModel> model_;
+  MeshParams params_;
+  std::atomic<bool> cancel_{false};
+  std::mutex mu_;
+  Mesher* active_ = nullptr;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(_native, mod) {
+  mod.doc() = "ParaMesh native core (C++). Use freecad.paramesh, not this module directly.";
+
+  static py::exception<Error> exBase(mod, "ParaMeshError", PyExc_RuntimeError);
+  static py::exception<ParameterError> exParam(mod, "ParameterError", PyExc_ValueError);
+  static py::exception<InputError> exInput(mod, "InputError", PyExc_ValueError);
+  static py::exception<Cancelled> exCancel(mod, "Cancelled", exBase.ptr());
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ParameterError& e) {
+      exParam(e.what());
+    } catch (const InputError& e) {
+      exInput(e.what());
+    } catch (const Cancelled& e) {
+      exCancel(e.what());
+    } catch (const Error& e) {
+      exBase(e.what());
+    }
+  });
+
+  py::class_<LocalSize> ls(mod, "LocalSize");
+  py::enum_<LocalSize::Kind>(ls, "Kind")
+      .value("Face", LocalSize::Kind::Face)
+      .value("Edge", LocalSize::Kind::Edge)
+      .value("Vertex", LocalSize::Kind::Vertex);
+  ls.def(py::init<>())
+      .def_readwrite("kind", &LocalSize::kind)
+      .def_readwrite("entities", &LocalSize::entities)
+      .def_readwrite("size", &LocalSize::size);
+
+  py::class_<BoundaryLayerSpec>(mod, "BoundaryLayerSpec")
+      .def(py::init<>())
+      .def_readwrite("edges", &BoundaryLayerSpec::edges)
+      .def_readwrite("first_height", &BoundaryLayerSpec::firstHeight)
+      .def_readwrite("growth", &BoundaryLayerSpec::growth)
+      .def_readwrite("layers", &BoundaryLayerSpec::layers)
+      .def_readwrite("thickness", &BoundaryLayerSpec::thickness)
+      .def_readwrite("max_aspect", &BoundaryLayerSpec::maxAspect)
+      .def_readwrite("quads", &BoundaryLayerSpec::quads);
+
+  py::class_<MeshParams>(mod, "MeshParams")
+      .def(py::init<>())
+      .def_readwrite("size", &MeshParams::size)
+      .def_readwrite("min_size", &MeshParams::minSize)
+      .def_readwrite("max_size", &MeshParams::maxSize)
+      .def_readwrite("curvature_angle", &MeshParams::curvatureAngle)
+      .def_readwrite("max_deviation", &MeshParams::maxDeviation)
+      .def_readwrite("grading", &MeshParams::grading)
+      .def_readwrite("threads", &MeshParams::threads)
+      .def_readwrite("order", &MeshParams::order)
+      .def_readwrite("quads", &MeshParams::quads)
+      .def_readwrite("optimize_passes", &MeshParams::optimizePasses)
+      .def_readwrite("local_sizes", &MeshParams::localSizes)
+      .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)
+      .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");
+
+  py::class_<PyModel>(mod, "Model")
+      .def_static(
+          "from_file",
+          [](const std::string& path) {
+            py::gil_scoped_release nogil;
+            return PyModel{std::shared_ptr<IGeometryModel>(loadOccModel(path))};
+          },
+          py::arg("path"), "Reads a STEP/IGES/BREP file (format from the extension).")
+      .def_static(
+          "from_brep",
+          [](const std::string& brep) {
+            py::gil_scoped_release nogil;
+            return PyModel{std::shared_ptr<IGeometryModel>(loadOccModelFromBrepString(brep))};
+          },
+          py::arg("brep"), "Reads an OpenCASCADE BREP text (Part.Shape.exportBrepToString()).")
+      .def_property_readonly("num_faces", [](const PyModel& m) { return m.m->numFaces(); })
+      .def_property_readonly("num_edges", [](const PyModel& m) { return m.m->numEdges(); })
+      .def_property_readonly("num_vertices", [](const PyModel& m) { return m.m->numVertices(); })
+      .def_property_readonly("num_solids", [](const PyModel& m) { return m.m->numSolids(); })
+      .def_property_readonly("diagonal", [](const PyModel& m) { return m.m->boundingBox().diagonal(); })
+      .def(
+          "edge_faces", [](const PyModel& m, int e) {
+            if (e < 1 || e > m.m->numEdges())
+              throw ParameterError("Edge" + std::to_string(e) + " does not exist (the model has " +
+                                   std::to_string(m.m->numEdges()) + " edges)");
+            std::vector<int> f;
+            for (int x : m.m->edgeFaces(e - 1)) f.push_back(x + 1);
+            return f;
+          },
+          py::arg("edge"), "1-based faces using a 1-based edge.");
+
+  py::class_<PyResult, std::shared_ptr<PyResult>>(mod, "Result")
+      .def_property_readonly("nodes", [](const PyResult& r) { return vec3Array(r.mesh.nodes); }, "(N, 3) float64")
+      .def_property_readonly("triangles", [](const PyResult& r) { return intArray(r.mesh.triangles); },
+                             "(M, 3) int32, 0-based, counter-clockwise seen from outside")
+      .def_property_readonly("quads", [](const PyResult& r) { return intArray(r.mesh.quads); }, "(K, 4) int32")
+      .def_property_readonly("triangle_face", [](const PyResult& r) { return intVector(r.mesh.triangleFace); },
+                             "(M,) int32 1-based CAD face of each triangle")
+      .def_property_readonly("quad_face", [](const PyResult& r) { return intVector(r.mesh.quadFace); },
+                             "(K,) int32 1-based CAD face of each quad")
+      .def_property_readonly("node_dim", [](const PyResult& r) {
+            std::vector<int> k(r.mesh.nodeKind.size());
+            for (size_t i = 0; i < k.size(); ++i) k[i] = (int)r.mesh.nodeKind[i];
+            return intVector(k);
+          }, "(N,) int32 dimension of the CAD entity of each node (0 vertex, 1 edge, 2 face)")
+      .def_property_readonly("node_entity", [](const PyResult& r) { return intVector(r.mesh.nodeEntity); },
+                             "(N,) int32 1-based CAD vertex/edge/face number of each node")
+      .def_property_readonly("node_param", [](const PyResult& r) { return vec2Array(r.mesh.nodeParam); },
+                             "(N, 2) float64: (t, 0) on edges, (u, v) on faces")
+      .def_property_readonly("segments", [](const PyResult& r) { return intArray(r.mesh.segments); },
+                             "(S, 2) int32 mesh edges on CAD edges")
+      .def_property_readonly("segment_edge", [](const PyResult& r) { return intVector(r.mesh.segmentEdge); },
+                             "(S,) int32 1-based CAD edge of each segment")
+      .def_property_readonly("order", [](const PyResult& r) { return r.mesh.order; })
+      .def_property_readonly("triangle_mid", [](const PyResult& r) { return intArray(r.mesh.triangleMid); },
+                             "(M, 3) int32 mid-edge nodes (ab, bc, ca) when order == 2")
+      .def_property_readonly("quad_mid", [](const PyResult& r) { return intArray(r.mesh.quadMid); },
+                             "(K, 4) int32 mid-edge nodes when order == 2")
+      .def_property_readonly("report_json", [](const PyResult& r) { return reportToJson(r.report).dump(); })
+      .def(
+          "write",
+          [](const PyResult& r, const std::string& path) {
+            py::gil_scoped_release nogil;
+            writeMesh(path, r.mesh);
+          },
+          py::arg("path"), "Writes .msh (Gmsh 4.1), .vtu, .stl or .inp (format from the extension).")
+      .def(
+          "render_png",
+          [](const PyResult& r, const std::string& path, int width, int height, double az, double el,
+             const std::string& color, std::vector<double> focus) {
+            RenderOptions o;
+            o.width = width;
+            o.height = height;
+            o.azimuthDeg = az;
+            o.elevationDeg = el;
+            o.color = color == "quality" ? RenderOptions::Color::ByQuality
+                      : color == "uniform" ? RenderOptions::Color::Uniform
+                                           : RenderOptions::Color::ByFace;
+            if (focus.size() == 6) {
+              o.hasFocus = true;
+              o.focusLo = {focus[0], focus[1], focus[2]};
+              o.focusHi = {focus[3], focus[4], focus[5]};
+            } else if (!focus.empty()) {
+              throw ParameterError("focus must be [x0, y0, z0, x1, y1, z1]");
+            }
+            py::gil_scoped_release nogil;
+            renderPng(path, r.mesh, o);
+          },
+          py::arg("path"), py::arg("width") = 1600, py::arg("height") = 1200, py::arg("azimuth") = 35.0,
+          py::arg("elevation") = 25.0, py::arg("color") = "face", py::arg("focus") = std::vector<double>{},
+          "Renders the mesh to a PNG (software rasteriser).");
+
+  py::class_<PyMesher>(mod, "Mesher")
+      .def(py::init<PyModel, MeshParams>(), py::arg("model"), py::arg("params"))
+      .def("run", &PyMesher::run, py::arg("progress") = py::none(), py::arg("log") = py::none(),
+           "Meshes (GIL released). progress(fraction, stage) may return False to cancel; "
+           "log(level, message). Returns a Result.")
+      .def("cancel", &PyMesher::cancel, "Requests cancellation (thread-safe).");
+}
