@@ -5,4 +5,6 @@ cd "$(dirname "$0")/.."
 bash .ci/install-deps.sh
 bash scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)")
+# Python API (no FreeCAD) and FreeCAD App bridge (no GUI), with Debian's interpreter
+/usr/bin/python3 -m pytest -q tests/python tests/freecad
 echo "all tests passed"

@@ -34,6 +34,7 @@ const char* kUsage =
     "  --grading G           max size ratio between neighbouring elements (default 1.3)\n"
     "  --threads N           worker threads (0: all cores; default 1)\n"
     "  --optimize N          optimisation passes (default 4)\n"
+    "  --order 1|2           element order; 2 puts mid-edge nodes on the CAD (default 1)\n"
     "  --report FILE.json    write the run report\n"
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
@@ -113,6 +114,7 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--max-deviation") p.maxDeviation = parseNumber(a, next());
     else if (a == "--threads") p.threads = parseInt(a, next());
     else if (a == "--optimize") p.optimizePasses = parseInt(a, next());
+    else if (a == "--order") p.order = parseInt(a, next());
     else if (a == "--report") report = next();
     else if (a == "--png") png = next();
     else if (a == "--view") {

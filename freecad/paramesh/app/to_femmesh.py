@@ -96,3 +96,25 @@ def result_to_femmesh(result, groups=True):
             g = fm.addGroup(f"Face{int(chunk_f[0])}", "Face")
             fm.addGroupElements(g, chunk_ids.tolist())
     return fm
+
+
+def add_constraint_groups(femmesh, result, part_object, constraints):
+    """Adds, for each FEM constraint that references faces of part_object, an element group named
+    '<ConstraintName>_Faces' holding the mesh faces on those CAD faces. FreeCAD 0.20's CalculiX
+    writer looks shell pressure loads up by such groups (meshtools.get_pressure_obj_faces)."""
+    faces = np.concatenate([result.triangle_face, result.quad_face]).astype(np.int64)
+    ids = np.arange(1, len(faces) + 1)
+    for c in constraints:
+        refs = getattr(c, "References", None) or []
+        wanted = set()
+        for obj, subs in refs:
+            if obj != part_object:
+                continue
+            for s in (subs if isinstance(subs, (list, tuple)) else [subs]):
+                if s.startswith("Face") and s[4:].isdigit():
+                    wanted.add(int(s[4:]))
+        if not wanted:
+            continue
+        sel = ids[np.isin(faces, list(wanted))]
+        g = femmesh.addGroup(f"{c.Name}_Faces", "Face")
+        femmesh.addGroupElements(g, sel.tolist())

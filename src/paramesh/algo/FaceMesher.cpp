@@ -329,7 +329,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     fr.run();
     res.rejectedPoints = fr.rejected;
     refineFolded(T, C);
-    Optimizer O(T, C);
+    Optimizer O(T, C, progress);
     O.run(opt.optimizePasses);
     if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
       O.smoothPass();
@@ -356,6 +356,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         continue;
       }
       res.tris.push_back(r);
+      res.triUv.push_back({C.toParam(T.verts[tr.v[0]].uv), C.toParam(T.verts[tr.v[1]].uv), C.toParam(T.verts[tr.v[2]].uv)});
     }
     if (res.tris.empty()) {
       res.error = "no triangle was produced";

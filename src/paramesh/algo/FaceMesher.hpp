@@ -48,6 +48,7 @@ struct FaceMeshResult {
   std::vector<Vec3> newXyz;
   std::vector<Vec2> newUv;
   std::vector<std::array<int, 3>> tris;  ///< oriented like S_u x S_v (caller flips reversed faces)
+  std::vector<std::array<Vec2, 3>> triUv;  ///< (u,v) of each triangle's corners, contiguous across seams
   int rejectedPoints = 0;
   int degenerateDropped = 0;
 };

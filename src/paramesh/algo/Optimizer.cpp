@@ -127,6 +127,7 @@ double Optimizer::edgeRatio(int a, int b) const {
 int Optimizer::swapPass() {
   int flips = 0;
   for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    poll(t);
     if (T_.tris[t].dead) continue;
     for (int i = 0; i < 3; ++i) {
       const Triangle& tr = T_.tris[t];
@@ -163,6 +164,7 @@ int Optimizer::swapPass() {
 int Optimizer::smoothPass() {
   int moved = 0;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
+    poll(v);
     TriVertex& V = T_.verts[v];
     if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) continue;
     bool closed = true;
@@ -367,6 +369,7 @@ bool Optimizer::collapse(int t, int i) {
 int Optimizer::collapsePass(double shortRatio, double maxRatio) {
   int n = 0;
   for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    poll(t);
     if (T_.tris[t].dead) continue;
     for (int i = 0; i < 3; ++i) {
       const Triangle& tr = T_.tris[t];

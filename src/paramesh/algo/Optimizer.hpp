@@ -7,12 +7,15 @@
 #pragma once
 #include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/algo/Triangulation.hpp"
+#include "paramesh/util/Log.hpp"
 
 namespace paramesh {
 
 class Optimizer {
  public:
-  Optimizer(Triangulation& T, const SurfaceContext& C) : T_(T), C_(C) {}
+  /// progress (optional) is polled regularly so that a cancel request stops long passes quickly.
+  Optimizer(Triangulation& T, const SurfaceContext& C, const Progress* progress = nullptr)
+      : T_(T), C_(C), progress_(progress) {}
 
   /// Flips edges while the min 3D quality of the pair improves. Returns the number of flips.
   int swapPass();
@@ -49,6 +52,10 @@ class Optimizer {
   const SurfaceContext& C_;
   std::vector<int> ring_;
   double maxDev_ = 0;  ///< 0: no deviation guard
+  const Progress* progress_ = nullptr;
+  void poll(int i) const {
+    if (progress_ && (i & 1023) == 0) progress_->poll();
+  }
 };
 
 }  // namespace paramesh

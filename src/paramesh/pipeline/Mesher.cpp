@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "paramesh/algo/FaceMesher.hpp"
+#include "paramesh/algo/HighOrder.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
@@ -58,6 +59,8 @@ struct Mesher::Impl {
   std::vector<EdgeMesh> edges;
   std::vector<int> vertexNode;
   Coincidence same;  ///< coincident vertices/edges of unsewn faces
+  std::vector<std::array<Vec2, 3>> triUv;         ///< per output triangle: (u,v) of its corners on its face
+  std::vector<std::array<double, 2>> segmentT;    ///< per output segment: edge parameters of its ends
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -93,7 +96,6 @@ struct Mesher::Impl {
     for (size_t i = 0; i < p.boundaryLayers.size(); ++i)
       for (int e : p.boundaryLayers[i].edges)
         checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
-    if (p.order != 1) throw ParameterError("order 2 (mid-nodes on the CAD) is not available yet");
     if (p.quads) throw ParameterError("quad-dominant meshing (quads) is not available yet");
     if (!p.boundaryLayers.empty()) throw ParameterError("surface boundary layers are not available yet");
     threads = resolveThreads(p.threads);
@@ -235,6 +237,7 @@ struct Mesher::Impl {
           if (em.nodes[i] == em.nodes[i + 1]) continue;  // an edge shorter than the merge tolerance
           mesh.segments.push_back({em.nodes[i], em.nodes[i + 1]});
           mesh.segmentEdge.push_back(e + 1);
+          segmentT.push_back({em.t[i], em.t[i + 1]});
         }
     }
     // coincident edges take their representative's nodes, with parameters on their own curve
@@ -505,12 +508,18 @@ struct Mesher::Impl {
       const int base = (int)mesh.nodes.size();
       for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
       const bool rev = model.faceReversed(f);
-      for (auto t : r.tris) {
+      for (size_t k = 0; k < r.tris.size(); ++k) {
+        auto t = r.tris[k];
+        auto uv = r.triUv[k];
         for (int& v : t)
           if (v < 0) v = base + (-v - 1);
-        if (rev) std::swap(t[1], t[2]);
+        if (rev) {
+          std::swap(t[1], t[2]);
+          std::swap(uv[1], uv[2]);
+        }
         mesh.triangles.push_back(t);
         mesh.triangleFace.push_back(f + 1);
+        triUv.push_back(uv);
       }
       fr.triangles = (int)r.tris.size();
       fr.nodes = (int)r.newXyz.size();
@@ -518,11 +527,24 @@ struct Mesher::Impl {
     stage("assemble", ta.seconds());
   }
 
+  void secondOrder() {
+    Timer tm;
+    const HighOrderStats st = makeSecondOrder(mesh, model, triUv, segmentT);
+    report.midNodes = st.midNodes;
+    report.straightenedMidNodes = st.straightened;
+    report.minScaledJacobian = st.minJacobianRatio;
+    if (st.straightened)
+      report.warnings.push_back(std::to_string(st.straightened) + " mid-nodes of " + std::to_string(st.invalidElements) +
+                                " curved elements were put back on the chord to keep the Jacobian positive");
+    stage("second_order", tm.seconds());
+  }
+
   void finish() {
     Timer tq;
     report.nodes = (int)mesh.nodes.size();
     report.triangles = (int)mesh.triangles.size();
     report.quads = (int)mesh.quads.size();
+    report.order = mesh.order;
     report.sizeSources = field.numSources();
     report.quality = summarizeQuality(mesh, [this](Vec3 x) { return field.size(x); });
     std::vector<std::string> failed;
@@ -566,6 +588,7 @@ MeshOutput Mesher::run() {
              std::to_string(d.field.numSources()) + " size sources");
   d.progress.report(0.15, "faces");
   d.meshFaces();
+  if (d.p.order == 2) d.secondOrder();
   d.finish();
   d.stage("total", total.seconds());
   d.progress.report(1.0, "done");

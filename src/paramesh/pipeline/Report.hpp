@@ -40,6 +40,9 @@ struct Report {
   double size = 0, minSize = 0, maxSize = 0, curvatureAngle = 0, maxDeviation = 0, grading = 0;
   int threads = 1;
   int nodes = 0, triangles = 0, quads = 0;
+  int order = 1;
+  int midNodes = 0, straightenedMidNodes = 0;  ///< second order: created / put back on the chord
+  double minScaledJacobian = 1;                ///< second order: worst curved element (1 = straight)
   size_t sizeSources = 0;
   std::vector<FaceReport> faces;
   std::vector<std::pair<std::string, double>> stageSeconds;

@@ -30,6 +30,12 @@ Json reportToJson(const Report& r) {
   cnt["triangles"] = r.triangles;
   cnt["quads"] = r.quads;
   cnt["size_sources"] = r.sizeSources;
+  if (r.order == 2) {
+    Json& ho = j["second_order"];
+    ho["mid_nodes"] = r.midNodes;
+    ho["straightened_mid_nodes"] = r.straightenedMidNodes;
+    ho["min_scaled_jacobian"] = r.minScaledJacobian;
+  }
   Json& st = j["seconds"];
   for (const auto& kv : r.stageSeconds) st[kv.first] = kv.second;
   Json& q = j["quality"];

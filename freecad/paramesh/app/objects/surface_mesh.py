@@ -80,9 +80,21 @@ class SurfaceMesh(BaseProxy):
             return
         self.apply_result(obj, result)
 
+    @staticmethod
+    def analysis_constraints(obj):
+        """FEM constraints of the analyses this mesh belongs to."""
+        out = []
+        for parent in obj.InList:
+            if parent.isDerivedFrom("Fem::FemAnalysis"):
+                out += [m for m in parent.Group if m.isDerivedFrom("Fem::Constraint")]
+        return out
+
     def apply_result(self, obj, result):
         """Stores a finished MeshResult in the object (also used by the GUI's worker thread)."""
-        obj.FemMesh = result.to_femmesh()
+        fm = result.to_femmesh()
+        from ..to_femmesh import add_constraint_groups
+        add_constraint_groups(fm, result, obj.Part, self.analysis_constraints(obj))
+        obj.FemMesh = fm
         obj.Status = result.report["status"]
         obj.Report = json.dumps(result.report)
         if result.report["status"] != "ok":

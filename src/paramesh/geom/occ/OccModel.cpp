@@ -335,12 +335,15 @@ bool looksLikeBrep(const std::string& head) {
 }
 
 TopoDS_Shape readShape(const std::string& path) {
+  const std::string ext = lowerExt(path);
+  if (ext != "step" && ext != "stp" && ext != "iges" && ext != "igs" && ext != "brep" && ext != "brp")
+    throw InputError("unknown CAD format '." + ext + "' of '" + path +
+                     "' (expected .step/.stp, .iges/.igs or .brep/.brp)");
   SilenceOcc silence;
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw InputError("cannot open '" + path + "'");
   }
-  const std::string ext = lowerExt(path);
   TopoDS_Shape shape;
   try {
     if (ext == "step" || ext == "stp") {

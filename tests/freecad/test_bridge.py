@@ -1,0 +1,133 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""FreeCAD bridge (App, no GUI): Part shapes in, Mesh and FEM meshes out, objects saved/restored."""
+import json
+import os
+import runpy
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import FreeCAD
+import Part
+import Mesh  # noqa: F401
+import Fem  # noqa: F401
+
+import freecad.paramesh as pm
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(os.path.dirname(HERE), "data")
+M6 = os.path.join(DATA, "AileM6_with_sharp_TE.stp")
+
+
+def test_macro_m6_saves_and_reopens_with_the_same_counts(tmp_path):
+    macro = os.path.join(HERE, "macro_m6.py")
+    assert len(open(macro).read().strip().splitlines()) <= 15
+    out = str(tmp_path / "m6.FCStd")
+    argv = sys.argv
+    sys.argv = [macro, M6, out]
+    try:
+        runpy.run_path(macro, run_name="__main__")
+    finally:
+        sys.argv = argv
+    doc = FreeCAD.ActiveDocument
+    fem = [o for o in doc.Objects if o.TypeId == "Fem::FemMeshObjectPython"][0]
+    counts = (fem.FemMesh.NodeCount, fem.FemMesh.FaceCount, fem.MeshFeature.Mesh.CountFacets)
+    names = (fem.Name, fem.MeshFeature.Name)
+    assert fem.Status == "ok" and counts[1] == counts[2] > 5000
+    assert fem.Part.Name == "Wing" and fem in doc.getObject("Analysis").Group
+    FreeCAD.closeDocument(doc.Name)
+    d2 = FreeCAD.openDocument(out)
+    try:
+        f2, m2 = d2.getObject(names[0]), d2.getObject(names[1])
+        assert (f2.FemMesh.NodeCount, f2.FemMesh.FaceCount, m2.Mesh.CountFacets) == counts
+        assert f2.Proxy is not None and f2.SchemaVersion == 1 and f2.Part.Name == "Wing"
+        assert [FreeCAD.Units.Quantity(f2.Size).Value] == [16.75]
+        # restored objects recompute without error
+        f2.touch()
+        d2.recompute()
+        assert f2.Status == "ok" and f2.FemMesh.FaceCount == counts[1]
+    finally:
+        FreeCAD.closeDocument(d2.Name)
+
+
+def test_femmesh_has_one_group_per_cad_face_and_nodes_on_the_cad():
+    shape = Part.read(M6)
+    r = pm.mesh_shape(shape, size=30.0)
+    fm = r.to_femmesh()
+    names = sorted(fm.getGroupName(g) for g in fm.Groups)
+    assert names == sorted(f"Face{i}" for i in range(1, 12))
+    for g in fm.Groups:
+        i = int(fm.getGroupName(g)[4:])
+        assert len(fm.getGroupElements(g)) == int((r.face_of_element == i).sum())
+    # every node of Face10's triangles lies on Face10 ...
+    f10 = shape.Faces[9]
+    on10 = np.unique(r.triangles[r.triangle_face == 10].ravel())
+    d = max(Part.Vertex(FreeCAD.Vector(*r.nodes[i])).distToShape(f10)[0] for i in on10)
+    assert d <= 1e-9 * shape.BoundBox.DiagonalLength
+    # ... so FreeCAD's node lookup by CAD face (what constraints use) finds them. (It skips CAD
+    # vertices whose tolerance is large: Vertex6/7 of this STEP file, 0.017 and 0.033.)
+    by_face = set(fm.getNodesByFace(f10))
+    expected = {int(i) + 1 for i in on10}
+    assert by_face <= expected and len(by_face) >= len(expected) - 2
+
+
+def test_mesh_and_femmesh_are_built_fast():
+    r = pm.mesh_shape(os.path.join(DATA, "bottle.brep"), size=0.5)
+    t0 = time.perf_counter()
+    m = r.to_mesh()
+    t_mesh = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    f = r.to_femmesh()
+    t_fem = time.perf_counter() - t0
+    n = len(r.triangles)
+    assert m.CountFacets == n and m.CountPoints == len(r.nodes) and m.countSegments() == 71
+    assert f.FaceCount == n and f.NodeCount == len(r.nodes)
+    # measured on the dev machine: ~1.6 us/triangle (Mesh), ~5 us/triangle (FemMesh)
+    assert t_mesh < 10e-6 * n and t_fem < 30e-6 * n, (t_mesh, t_fem, n)
+
+
+def test_placement_is_respected():
+    box = Part.makeBox(10, 20, 30)
+    box.Placement = FreeCAD.Placement(FreeCAD.Vector(100, 0, 0), FreeCAD.Rotation(FreeCAD.Vector(0, 0, 1), 90))
+    r = pm.mesh_shape(box, size=3.0)
+    bb = box.BoundBox
+    assert np.allclose(r.nodes.min(0), [bb.XMin, bb.YMin, bb.ZMin], atol=1e-9)
+    assert np.allclose(r.nodes.max(0), [bb.XMax, bb.YMax, bb.ZMax], atol=1e-9)
+
+
+def test_orientation_follows_the_outward_normal():
+    s = Part.read(os.path.join(DATA, "screw.step"))
+    r = pm.mesh_shape(s, size=2.0)
+    P = r.nodes
+    vol = 0.0
+    for t in r.triangles:  # divergence theorem: positive volume for outward normals
+        a, b, c = P[t]
+        vol += np.dot(a, np.cross(b, c)) / 6.0
+    assert vol == pytest.approx(s.Volume, rel=0.02)
+
+
+def test_bad_shapes_raise_and_freecad_survives():
+    with pytest.raises(pm.InputError):
+        pm.mesh_shape(Part.Shape())
+    with pytest.raises(pm.InputError, match="no face"):
+        pm.mesh_shape(Part.makeLine(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(1, 0, 0)))
+    with pytest.raises(TypeError):
+        pm.mesh_shape(Part.makeBox(1, 1, 1), size=[1])
+    with pytest.raises(pm.ParameterError, match="Edge40"):
+        pm.mesh_shape(Part.makeBox(1, 1, 1), boundary_layers=[{"edges": [40], "first_height": 0.1, "layers": 2}])
+    # still alive and working
+    assert len(pm.mesh_shape(Part.makeSphere(1.0), size=0.3).triangles) > 50
+
+
+def test_failed_mesh_object_reports_instead_of_raising_in_recompute():
+    doc = FreeCAD.newDocument("bad")
+    try:
+        obj = pm.app_factories().make_surface_mesh(doc, None) if hasattr(pm, "app_factories") else None
+        from freecad.paramesh.app.factories import make_surface_mesh
+        obj = make_surface_mesh(doc, None)
+        doc.recompute()
+        assert obj.Status == "failed" and "no Part" in json.loads(obj.Report)["message"]
+    finally:
+        FreeCAD.closeDocument(doc.Name)
