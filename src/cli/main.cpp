@@ -12,6 +12,7 @@
 #include "paramesh/io/MeshWriters.hpp"
 #include "paramesh/io/PngRender.hpp"
 #include "paramesh/pipeline/Mesher.hpp"
+#include "paramesh/pipeline/ParamsJson.hpp"
 #include "paramesh/pipeline/ReportJson.hpp"
 #include "paramesh/util/Error.hpp"
 
@@ -36,6 +37,14 @@ const char* kUsage =
     "  --optimize N          optimisation passes (default 4)\n"
     "  --order 1|2           element order; 2 puts mid-edge nodes on the CAD (default 1)\n"
     "  --report FILE.json    write the run report\n"
+    "  --bl-edges E1,E2,...  grow a surface boundary layer from these CAD edges (1-based)\n"
+    "  --bl-first-height H0  height of its first row\n"
+    "  --bl-growth R         ratio between consecutive rows (default 1.2)\n"
+    "  --bl-layers N         number of rows, or\n"
+    "  --bl-thickness T      total thickness\n"
+    "  --bl-max-aspect A     stop a column when spacing/height falls below A (0: off)\n"
+    "  --bl-quads            stretched quads (default); --bl-triangles: each quad split in two\n"
+    "  --params FILE.json    parameters (and several boundary-layer specs) from a JSON file\n"
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
     "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
@@ -99,6 +108,9 @@ int cmdMesh(int argc, char** argv) {
   std::vector<std::string> outs;
   RenderOptions ro;
   bool quiet = false;
+  BoundaryLayerSpec bl;
+  bool haveBl = false;
+  std::string paramsFile;
   for (int i = 2; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> const char* {
@@ -115,6 +127,20 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--threads") p.threads = parseInt(a, next());
     else if (a == "--optimize") p.optimizePasses = parseInt(a, next());
     else if (a == "--order") p.order = parseInt(a, next());
+    else if (a == "--bl-edges") {
+      bl.edges.clear();
+      std::stringstream ss(next());
+      std::string tok;
+      while (std::getline(ss, tok, ',')) bl.edges.push_back(parseInt(a, tok.c_str()));
+      haveBl = true;
+    } else if (a == "--bl-first-height") { bl.firstHeight = parseNumber(a, next()); haveBl = true; }
+    else if (a == "--bl-growth") { bl.growth = parseNumber(a, next()); haveBl = true; }
+    else if (a == "--bl-layers") { bl.layers = parseInt(a, next()); haveBl = true; }
+    else if (a == "--bl-thickness") { bl.thickness = parseNumber(a, next()); haveBl = true; }
+    else if (a == "--bl-max-aspect") { bl.maxAspect = parseNumber(a, next()); haveBl = true; }
+    else if (a == "--bl-quads") { bl.quads = true; }
+    else if (a == "--bl-triangles") { bl.quads = false; }
+    else if (a == "--params") paramsFile = next();
     else if (a == "--report") report = next();
     else if (a == "--png") png = next();
     else if (a == "--view") {
@@ -130,6 +156,17 @@ int cmdMesh(int argc, char** argv) {
     else if (!a.empty() && a[0] == '-') die(1, "unknown option " + a);
     else if (model.empty()) model = a;
     else die(1, "unexpected argument '" + a + "'");
+  }
+  if (!paramsFile.empty()) {
+    try {
+      applyParamsFile(paramsFile, p);
+    } catch (const Error& e) {
+      die(1, e.what());
+    }
+  }
+  if (haveBl) {
+    if (bl.edges.empty()) die(1, "--bl-* options need --bl-edges");
+    p.boundaryLayers.push_back(bl);
   }
   if (model.empty()) die(1, "mesh: missing MODEL");
   if (outs.empty() && report.empty() && png.empty()) die(1, "mesh: give an output with -o OUT");

@@ -295,6 +295,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
   FaceMeshResult res;
   try {
     SurfaceContext C(surf, size);
+    C.overlay = opt.overlay;
     DomainGuard guard;
     if (!boundary.trueLoops.empty()) {
       std::vector<std::vector<Vec2>> scaled = boundary.trueLoops;
@@ -340,12 +341,12 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     std::vector<int> ref(T.verts.size());
     for (size_t v = 0; v < T.verts.size(); ++v) {
       const TriVertex& V = T.verts[v];
-      if (V.node >= 0) {
-        ref[v] = V.node;
+      if (V.node >= 0 || (V.flags & VF_BOUNDARY)) {
+        ref[v] = V.node;  // global node, or a face-local boundary-layer node (< 0)
       } else {
         res.newXyz.push_back(V.xyz);
         res.newUv.push_back(C.toParam(V.uv));
-        ref[v] = -(int)res.newXyz.size();
+        ref[v] = -(opt.localNodeOffset + (int)res.newXyz.size());
       }
     }
     for (const Triangle& tr : T.tris) {

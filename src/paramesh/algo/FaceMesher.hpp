@@ -18,8 +18,9 @@ namespace paramesh {
 struct BoundaryVertex {
   Vec2 uv;          ///< parameter on the face (unscaled)
   Vec3 xyz;         ///< 3D position (the shared edge node)
-  int node = -1;    ///< global node id
+  int node = -1;    ///< global node id (>= 0), or a face-local node -(k+1) (boundary-layer front)
   bool pole = false;  ///< one of several (u,v) images of a degenerate-edge node
+  int edge = -1;    ///< 0-based CAD edge of the boundary segment starting here (-1: none)
 };
 
 /// The closed loops bounding a face, each a cyclic list of boundary points in (u,v).
@@ -38,6 +39,8 @@ struct FaceMeshOptions {
   double acceptRadius = 0.7071;   ///< frontal: triangles whose metric circumradius is below are accepted
   long maxPoints = 50000000;    ///< hard cap on inserted points (guards against runaway refinement)
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
+  int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
+  const SizeField* overlay = nullptr;  ///< extra face-local sizes (boundary-layer hand-off); min with the field
 };
 
 /// Result of meshing one face. Node references: >= 0 is a global node, < 0 is new local node
@@ -49,6 +52,8 @@ struct FaceMeshResult {
   std::vector<Vec2> newUv;
   std::vector<std::array<int, 3>> tris;  ///< oriented like S_u x S_v (caller flips reversed faces)
   std::vector<std::array<Vec2, 3>> triUv;  ///< (u,v) of each triangle's corners, contiguous across seams
+  std::vector<std::array<int, 4>> quads;   ///< boundary-layer quads (same node-reference rules)
+  std::vector<std::array<Vec2, 4>> quadUv;
   int rejectedPoints = 0;
   int degenerateDropped = 0;
 };

@@ -22,6 +22,7 @@ class SurfaceContext {
   double su = 1, sv = 1;  ///< parameter scales
   bool planar = false;
   const DomainGuard* guard = nullptr;  ///< true trimmed domain, in scaled (u,v)
+  const SizeField* overlay = nullptr;  ///< face-local sizes, combined by min with the field
 
   /// True when the scaled parameter s lies inside the face's true trimmed domain.
   bool inDomain(Vec2 s) const { return !guard || guard->inside(s); }

@@ -3,6 +3,9 @@
 /// JSON serialisation and locale-independent number formatting.
 #include "paramesh/io/Json.hpp"
 
+#include <cctype>
+#include <cstdlib>
+
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -207,5 +210,170 @@ void Json::write(std::string& out, int indent, int level) const {
     }
   }
 }
+
+double Json::number() const {
+  if (type_ == Type::Int) return static_cast<double>(int_);
+  if (type_ == Type::Double) return double_;
+  throw Error("JSON: expected a number");
+}
+
+bool Json::boolean() const {
+  if (type_ != Type::Bool) throw Error("JSON: expected true or false");
+  return bool_;
+}
+
+const std::string& Json::str() const {
+  if (type_ != Type::String) throw Error("JSON: expected a string");
+  return string_;
+}
+
+namespace {
+class JsonParser {
+ public:
+  explicit JsonParser(const std::string& t) : s_(t) {}
+  Json parseAll() {
+    Json v = value();
+    ws();
+    if (i_ != s_.size()) fail("unexpected text after the value");
+    return v;
+  }
+
+ private:
+  const std::string& s_;
+  size_t i_ = 0;
+  [[noreturn]] void fail(const std::string& what) const {
+    size_t line = 1, col = 1;
+    for (size_t k = 0; k < i_ && k < s_.size(); ++k) {
+      if (s_[k] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    throw Error("JSON: " + what + " at line " + std::to_string(line) + ", column " + std::to_string(col));
+  }
+  void ws() {
+    while (i_ < s_.size() && (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r')) ++i_;
+  }
+  bool eat(char c) {
+    ws();
+    if (i_ < s_.size() && s_[i_] == c) {
+      ++i_;
+      return true;
+    }
+    return false;
+  }
+  void expect(char c) {
+    if (!eat(c)) fail(std::string("expected '") + c + "'");
+  }
+  Json value() {
+    ws();
+    if (i_ >= s_.size()) fail("unexpected end of text");
+    const char c = s_[i_];
+    if (c == '{') {
+      ++i_;
+      Json o = Json::object();
+      if (eat('}')) return o;
+      do {
+        ws();
+        if (i_ >= s_.size() || s_[i_] != '"') fail("expected a key string");
+        std::string k = string();
+        expect(':');
+        o[k] = value();
+      } while (eat(','));
+      expect('}');
+      return o;
+    }
+    if (c == '[') {
+      ++i_;
+      Json a = Json::array();
+      if (eat(']')) return a;
+      do {
+        a.push(value());
+      } while (eat(','));
+      expect(']');
+      return a;
+    }
+    if (c == '"') return Json(string());
+    if (s_.compare(i_, 4, "true") == 0) {
+      i_ += 4;
+      return Json(true);
+    }
+    if (s_.compare(i_, 5, "false") == 0) {
+      i_ += 5;
+      return Json(false);
+    }
+    if (s_.compare(i_, 4, "null") == 0) {
+      i_ += 4;
+      return Json();
+    }
+    return numberValue();
+  }
+  std::string string() {
+    ++i_;  // opening quote
+    std::string out;
+    while (i_ < s_.size() && s_[i_] != '"') {
+      char c = s_[i_++];
+      if (c == '\\') {
+        if (i_ >= s_.size()) fail("bad escape");
+        const char e = s_[i_++];
+        switch (e) {
+          case 'n': out += '\n'; break;
+          case 't': out += '\t'; break;
+          case 'r': out += '\r'; break;
+          case 'b': out += '\b'; break;
+          case 'f': out += '\f'; break;
+          case 'u': {
+            if (i_ + 4 > s_.size()) fail("bad \\u escape");
+            const unsigned cp = (unsigned)std::stoul(s_.substr(i_, 4), nullptr, 16);
+            i_ += 4;
+            if (cp < 0x80) {
+              out += (char)cp;
+            } else if (cp < 0x800) {
+              out += (char)(0xC0 | (cp >> 6));
+              out += (char)(0x80 | (cp & 0x3F));
+            } else {
+              out += (char)(0xE0 | (cp >> 12));
+              out += (char)(0x80 | ((cp >> 6) & 0x3F));
+              out += (char)(0x80 | (cp & 0x3F));
+            }
+            break;
+          }
+          default: out += e;
+        }
+      } else {
+        out += c;
+      }
+    }
+    if (i_ >= s_.size()) fail("unterminated string");
+    ++i_;
+    return out;
+  }
+  Json numberValue() {
+    const size_t start = i_;
+    if (s_[i_] == '-') ++i_;
+    bool isInt = true;
+    while (i_ < s_.size() && (std::isdigit((unsigned char)s_[i_]) || s_[i_] == '.' || s_[i_] == 'e' ||
+                              s_[i_] == 'E' || s_[i_] == '+' || s_[i_] == '-')) {
+      if (!std::isdigit((unsigned char)s_[i_])) isInt = false;
+      ++i_;
+    }
+    const std::string tok = s_.substr(start, i_ - start);
+    if (tok.empty() || tok == "-") fail("expected a value");
+    char* end = nullptr;
+    if (isInt) {
+      const long long v = std::strtoll(tok.c_str(), &end, 10);
+      if (*end) fail("bad number '" + tok + "'");
+      return Json((int64_t)v);
+    }
+    const double v = std::strtod(tok.c_str(), &end);
+    if (*end) fail("bad number '" + tok + "'");
+    return Json(v);
+  }
+};
+}  // namespace
+
+Json Json::parse(const std::string& text) { return JsonParser(text).parseAll(); }
 
 }  // namespace paramesh

@@ -60,6 +60,12 @@ class Json {
   /// Array element; throws paramesh::Error when out of range or not an array.
   const Json& at(std::size_t i) const;
   bool contains(const std::string& key) const;
+  /// Value accessors; each throws paramesh::Error when the type does not match (numbers convert).
+  double number() const;
+  bool boolean() const;
+  const std::string& str() const;
+  /// Parses JSON text; throws paramesh::Error with the position on malformed input.
+  static Json parse(const std::string& text);
   /// Appends to an array and returns the new element. A null value becomes an empty array
   /// first; any other non-array type throws paramesh::Error.
   Json& push(Json v);

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <set>
 #include <sstream>
 
+#include "paramesh/algo/BoundaryLayer.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
 #include "paramesh/algo/HighOrder.hpp"
 #include "paramesh/model/Coincidence.hpp"
@@ -56,11 +58,17 @@ struct Mesher::Impl {
   Report report;
   SurfaceMesh mesh;
   SizeField field;
+  SizeField baseField;  ///< the field without boundary-layer sources (for the BL edges' own spacing)
   std::vector<EdgeMesh> edges;
   std::vector<int> vertexNode;
   Coincidence same;  ///< coincident vertices/edges of unsewn faces
   std::vector<std::array<Vec2, 3>> triUv;         ///< per output triangle: (u,v) of its corners on its face
   std::vector<std::array<double, 2>> segmentT;    ///< per output segment: edge parameters of its ends
+  // boundary layers
+  EdgeSpecMap blSpecOf;                 ///< BL spec of each edge (-1: none)
+  std::vector<LayerLaw> blLaws;
+  std::vector<EdgeBLPoints> blEnds;     ///< outermost-column points on non-BL edges
+  std::vector<FaceBLResult::SpecStats> blStats;
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -97,7 +105,6 @@ struct Mesher::Impl {
       for (int e : p.boundaryLayers[i].edges)
         checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
     if (p.quads) throw ParameterError("quad-dominant meshing (quads) is not available yet");
-    if (!p.boundaryLayers.empty()) throw ParameterError("surface boundary layers are not available yet");
     threads = resolveThreads(p.threads);
     report.size = p.size;
     report.minSize = p.minSize;
@@ -161,6 +168,56 @@ struct Mesher::Impl {
     stage("size_field", tm.seconds());
   }
 
+  // ---------------------------------------------------------------- boundary layers (1D part)
+  void planBoundaryLayers() {
+    if (p.boundaryLayers.empty()) return;
+    Timer tm;
+    blSpecOf.assign(model.numEdges(), -1);
+    for (size_t s = 0; s < p.boundaryLayers.size(); ++s) {
+      blLaws.push_back(LayerLaw::from(p.boundaryLayers[s]));
+      for (int e1 : p.boundaryLayers[s].edges) {
+        const int rep = same.edgeRep[e1 - 1];
+        for (int e = 0; e < model.numEdges(); ++e)  // coincident edges of unsewn faces grow too
+          if (same.edgeRep[e] == rep) {
+            if (model.edgeDegenerate(e))
+              throw ParameterError("boundary layer #" + std::to_string(s + 1) + ": Edge" + std::to_string(e + 1) +
+                                   " is degenerate (a point) and cannot carry a boundary layer");
+            blSpecOf[e] = (int)s;
+          }
+      }
+    }
+    blStats.assign(blLaws.size(), FaceBLResult::SpecStats());
+    blEnds = planEndColumns(model, blSpecOf, blLaws);
+    baseField = field;
+    // the points of the outermost columns are size sources: edges and faces grade from them
+    for (int e = 0; e < model.numEdges(); ++e) {
+      const auto& bp = blEnds[e];
+      if (bp.fromStart.empty() && bp.fromEnd.empty()) continue;
+      auto c = model.makeCurve(e);
+      for (int side = 0; side < 2; ++side) {
+        const auto& ts = side == 0 ? bp.fromStart : bp.fromEnd;
+        Vec3 prev = c->eval(side == 0 ? edgeT0(e) : edgeT1(e));
+        for (double t : ts) {
+          const Vec3 q = c->eval(t);
+          field.addSource(q, std::max(dist(q, prev), p.minSize));
+          prev = q;
+        }
+      }
+    }
+    field.build();
+    stage("boundary_layer_plan", tm.seconds());
+  }
+  double edgeT0(int e) const {
+    double a, b;
+    model.edgeRange(e, a, b);
+    return a;
+  }
+  double edgeT1(int e) const {
+    double a, b;
+    model.edgeRange(e, a, b);
+    return b;
+  }
+
   // ---------------------------------------------------------------- edges
   void discretizeEdges() {
     const int ne = model.numEdges();
@@ -177,10 +234,27 @@ struct Mesher::Impl {
         return;
       }
       auto c = model.makeCurve(e);
-      CurveSampling cs = sampleCurve(*c, t0, t1, &field);
+      const EdgeBLPoints* bp = blEnds.empty() ? nullptr : &blEnds[e];
+      if (bp && (!bp->fromStart.empty() || !bp->fromEnd.empty())) {
+        // boundary-layer points fixed at the ends, the middle discretised as usual
+        const double a = bp->fromStart.empty() ? t0 : bp->fromStart.back();
+        const double b = bp->fromEnd.empty() ? t1 : bp->fromEnd.back();
+        std::vector<double> t{t0};
+        t.insert(t.end(), bp->fromStart.begin(), bp->fromStart.end());
+        CurveSampling cs = sampleCurve(*c, a, b, &field);
+        const std::vector<double> midT = discretizeCurve(cs, field, 1, kPi / 3.0);
+        t.insert(t.end(), midT.begin() + 1, midT.end() - 1);
+        t.insert(t.end(), bp->fromEnd.rbegin(), bp->fromEnd.rend());
+        t.push_back(t1);
+        ts[e] = t;
+        return;
+      }
+      // BL edges keep their spanwise spacing: the layers' own sizes do not refine them
+      const SizeField& f = (!blSpecOf.empty() && blSpecOf[e] >= 0) ? baseField : field;
+      CurveSampling cs = sampleCurve(*c, t0, t1, &f);
       const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
       const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
-      ts[e] = discretizeCurve(cs, field, closed ? 3 : 1, kPi / 3.0);
+      ts[e] = discretizeCurve(cs, f, closed ? 3 : 1, kPi / 3.0);
     });
     // two edges joining the same two vertices must not both be a single chord
     std::map<std::pair<int, int>, std::vector<int>> byEnds;
@@ -343,13 +417,15 @@ struct Mesher::Impl {
                        1e-5 * field.size(pts[i].xyz), fine, 0);
           fine.push_back(pts[i].uv);
         }
+        for (auto& q : pts) q.edge = use.edge;  // the segment starting at q lies on this edge
         for (size_t i = 0; i < pts.size(); ++i) {
           if (!loop.empty() && i == 0) {
-            // shared point with the previous use
+            // shared point with the previous use: it now starts a segment of this use
             if (loop.back().node != pts[0].node) {
               why = "wire " + std::to_string(w + 1) + " is not connected at Edge" + std::to_string(use.edge + 1);
               return false;
             }
+            loop.back().edge = use.edge;
             continue;
           }
           loop.push_back(pts[i]);
@@ -445,6 +521,94 @@ struct Mesher::Impl {
     return std::clamp((int)std::lround(L / h), 1, 512);
   }
 
+  // ---------------------------------------------------------------- faces with boundary layers
+  bool hasBoundaryLayer(int f) const {
+    if (blSpecOf.empty()) return false;
+    for (const Wire& w : model.faceWires(f))
+      for (const EdgeUse& u : w.uses)
+        if (blSpecOf[u.edge] >= 0) return true;
+    return false;
+  }
+
+  FaceMeshResult meshFaceWithLayers(int f, const ISurface& s, const FaceBoundary& fb, FaceMeshOptions fo) {
+    std::vector<std::vector<LoopPoint>> loops;
+    for (const auto& L : fb.loops) {
+      std::vector<LoopPoint> lp;
+      for (const BoundaryVertex& b : L) lp.push_back({b.uv, b.xyz, b.node, b.edge, b.pole});
+      loops.push_back(std::move(lp));
+    }
+    DomainGuard guard(fb.trueLoops);
+    FaceBLResult bl = growFaceLayers(s, model.faceReversed(f), loops, guard, blSpecOf, blLaws, blEnds);
+    {
+      std::lock_guard<std::mutex> g(blMu_);
+      for (size_t k = 0; k < bl.stats.size(); ++k) {
+        auto& a = blStats[k];
+        const auto& b = bl.stats[k];
+        a.columns += b.columns;
+        a.fullColumns += b.fullColumns;
+        a.minLayers = std::min(a.minLayers, b.minLayers);
+        a.maxLayers = std::max(a.maxLayers, b.maxLayers);
+        a.stopBoundary += b.stopBoundary;
+        a.stopCollision += b.stopCollision;
+        a.stopInvalid += b.stopInvalid;
+        a.stopAspect += b.stopAspect;
+        a.stopEnd += b.stopEnd;
+        a.fans += b.fans;
+        a.merges += b.merges;
+      }
+    }
+    FaceBoundary inner;
+    inner.trueLoops = fb.trueLoops;
+    for (const auto& L : bl.loops) {
+      std::vector<BoundaryVertex> bv;
+      for (const LoopPoint& q : L) {
+        BoundaryVertex b;
+        b.uv = q.uv;
+        b.xyz = q.xyz;
+        b.node = q.node;
+        b.pole = q.pole;
+        b.edge = q.edge;
+        bv.push_back(b);
+      }
+      if (bv.size() >= 3) inner.loops.push_back(std::move(bv));
+    }
+    // hand-off: the isotropic mesh starts from the front with its spacing, graded away
+    SizeField overlay(field.hmax(), p.grading);
+    for (const auto& fs : bl.frontSizes) overlay.addSource(fs.first, std::max(fs.second, p.minSize));
+    overlay.build();
+    fo.overlay = &overlay;
+    fo.localNodeOffset = (int)bl.nodes.size();
+    FaceMeshResult r;
+    if (inner.loops.empty()) {
+      r.ok = true;  // the layers cover the whole face
+    } else {
+      r = meshFace(s, inner, field, fo, &progress);
+      if (!r.ok) return r;
+    }
+    std::vector<Vec3> xyz;
+    std::vector<Vec2> uv;
+    for (const BLNode& n : bl.nodes) {
+      xyz.push_back(n.xyz);
+      uv.push_back(n.uv);
+    }
+    xyz.insert(xyz.end(), r.newXyz.begin(), r.newXyz.end());
+    uv.insert(uv.end(), r.newUv.begin(), r.newUv.end());
+    r.newXyz = std::move(xyz);
+    r.newUv = std::move(uv);
+    r.quads = bl.quads;
+    r.quadUv = bl.quadUv;
+    for (size_t k = 0; k < bl.tris.size(); ++k) {
+      r.tris.push_back(bl.tris[k]);
+      r.triUv.push_back(bl.triUv[k]);
+    }
+    if (r.tris.empty() && r.quads.empty()) {
+      r.ok = false;
+      r.error = "no element was produced";
+    }
+    return r;
+  }
+  std::mutex blMu_;
+
   // ---------------------------------------------------------------- faces
   void meshFaces() {
     Timer tm;
@@ -476,6 +640,10 @@ struct Mesher::Impl {
         if (!buildBoundary(f, *s, fb, why)) {
           fr.ok = false;
           fr.error = why;
+        } else if (hasBoundaryLayer(f)) {
+          results[f] = meshFaceWithLayers(f, *s, fb, fo);
+          fr.ok = results[f].ok;
+          fr.error = results[f].error;
         } else {
           results[f] = meshFace(*s, fb, field, fo, &progress);
           fr.ok = results[f].ok;
@@ -521,7 +689,16 @@ struct Mesher::Impl {
         mesh.triangleFace.push_back(f + 1);
         triUv.push_back(uv);
       }
+      for (size_t k = 0; k < r.quads.size(); ++k) {
+        auto q = r.quads[k];
+        for (int& v : q)
+          if (v < 0) v = base + (-v - 1);
+        if (rev) std::swap(q[1], q[3]);
+        mesh.quads.push_back(q);
+        mesh.quadFace.push_back(f + 1);
+      }
       fr.triangles = (int)r.tris.size();
+      fr.quads = (int)r.quads.size();
       fr.nodes = (int)r.newXyz.size();
     }
     stage("assemble", ta.seconds());
@@ -560,6 +737,26 @@ struct Mesher::Impl {
       if (failed.size() > 5) m += "; ...";
       report.message = m;
     }
+    for (size_t k = 0; k < blStats.size(); ++k) {
+      BoundaryLayerReport b;
+      const auto& st = blStats[k];
+      b.spec = (int)k + 1;
+      for (int e = 0; e < model.numEdges(); ++e)
+        if (blSpecOf[e] == (int)k) b.edges.push_back(e + 1);
+      b.layersRequested = blLaws[k].layers;
+      b.columns = st.columns;
+      b.fullColumns = st.fullColumns;
+      b.minLayers = st.columns ? st.minLayers : 0;
+      b.maxLayers = st.maxLayers;
+      b.stopBoundary = st.stopBoundary;
+      b.stopCollision = st.stopCollision;
+      b.stopInvalid = st.stopInvalid;
+      b.stopAspect = st.stopAspect;
+      b.stopEdgeEnd = st.stopEnd;
+      b.fans = st.fans;
+      b.merges = st.merges;
+      report.boundaryLayers.push_back(b);
+    }
     stage("quality", tq.seconds());
   }
 };
@@ -578,6 +775,7 @@ MeshOutput Mesher::run() {
   d.findCoincidentTopology();
   d.progress.report(0.0, "size field");
   d.buildSizeField();
+  d.planBoundaryLayers();
   d.progress.report(0.05, "edges");
   {
     Timer te;

@@ -24,7 +24,7 @@ struct BoundaryLayerSpec {
   int layers = 0;              ///< number of rows N (0: derived from thickness)
   double thickness = 0;        ///< total thickness T (0: derived from layers)
   double maxAspect = 0;        ///< a column stops when its row height reaches spacing*maxAspect^-1 ... 0 = off
-  bool quads = true;           ///< stretched quads (true) or quads split into two triangles (false)
+  bool quads = true;           ///< stretched quads (true) or each quad split into two triangles (false)
 };
 
 /// Parameters of a meshing run. Defaults give a uniform-size mesh at diagonal/50.

@@ -32,6 +32,21 @@ struct QualitySummary {
   int invertedTriangles = 0;                ///< triangles facing against the surface normal
 };
 
+/// Per boundary-layer specification: what was grown and why columns stopped.
+struct BoundaryLayerReport {
+  int spec = 0;                   ///< 1-based index of the specification
+  std::vector<int> edges;         ///< 1-based CAD edges carrying it (coincident edges included)
+  int layersRequested = 0;
+  int columns = 0, fullColumns = 0, minLayers = 0, maxLayers = 0;
+  int stopBoundary = 0;           ///< columns stopped by the face boundary
+  int stopCollision = 0;          ///< ... by another layer
+  int stopInvalid = 0;            ///< ... because the next quad would fold
+  int stopAspect = 0;             ///< ... at the aspect-ratio limit (hand-off)
+  int stopEdgeEnd = 0;            ///< outermost columns cut by the end of the edge they run along
+  int fans = 0, merges = 0;       ///< corners
+  int elements = 0;               ///< quads (or split triangles) in the layers
+};
+
 struct Report {
   RunStatus status = RunStatus::Ok;
   std::string message;                      ///< one-line summary (the reason when not Ok)
@@ -45,6 +60,7 @@ struct Report {
   double minScaledJacobian = 1;                ///< second order: worst curved element (1 = straight)
   size_t sizeSources = 0;
   std::vector<FaceReport> faces;
+  std::vector<BoundaryLayerReport> boundaryLayers;
   std::vector<std::pair<std::string, double>> stageSeconds;
   QualitySummary quality;
   std::vector<std::string> warnings;

@@ -61,6 +61,32 @@ Json reportToJson(const Report& r) {
     fj["seconds"] = f.seconds;
     faces.push(std::move(fj));
   }
+  if (!r.boundaryLayers.empty()) {
+    Json& bl = j["boundary_layers"];
+    bl = Json::array();
+    for (const auto& b : r.boundaryLayers) {
+      Json x = Json::object();
+      x["spec"] = b.spec;
+      Json& ed = x["edges"];
+      ed = Json::array();
+      for (int e : b.edges) ed.push("Edge" + std::to_string(e));
+      x["layers_requested"] = b.layersRequested;
+      x["columns"] = b.columns;
+      x["full_columns"] = b.fullColumns;
+      x["layers_min"] = b.minLayers;
+      x["layers_max"] = b.maxLayers;
+      x["elements"] = b.elements;
+      Json& st = x["stops"];
+      st["face_boundary"] = b.stopBoundary;
+      st["collision"] = b.stopCollision;
+      st["folding"] = b.stopInvalid;
+      st["aspect"] = b.stopAspect;
+      st["edge_end"] = b.stopEdgeEnd;
+      x["fans"] = b.fans;
+      x["merges"] = b.merges;
+      bl.push(std::move(x));
+    }
+  }
   Json& w = j["warnings"];
   w = Json::array();
   for (const auto& s : r.warnings) w.push(s);

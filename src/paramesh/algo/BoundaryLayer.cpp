@@ -1,0 +1,772 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/algo/BoundaryLayer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+#include "paramesh/algo/Predicates.hpp"
+#include "paramesh/model/EdgeDiscretizer.hpp"
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+
+// ------------------------------------------------------------------------------------------ law
+
+double LayerLaw::height(int k) const { return h0 * std::pow(r, k); }
+
+double LayerLaw::offset(int k) const {
+  if (std::fabs(r - 1) < 1e-12) return h0 * k;
+  return h0 * (std::pow(r, k) - 1) / (r - 1);
+}
+
+LayerLaw LayerLaw::from(const BoundaryLayerSpec& s) {
+  LayerLaw l;
+  l.h0 = s.firstHeight;
+  l.r = s.growth;
+  l.maxAspect = s.maxAspect;
+  if (s.layers > 0) {
+    l.layers = s.layers;
+  } else {
+    // smallest N whose thickness reaches T
+    const double T = s.thickness;
+    l.layers = std::fabs(s.growth - 1) < 1e-12
+                   ? (int)std::ceil(T / s.firstHeight - 1e-9)
+                   : (int)std::ceil(std::log(1 + T * (s.growth - 1) / s.firstHeight) / std::log(s.growth) - 1e-9);
+    l.layers = std::clamp(l.layers, 1, 1000);
+  }
+  return l;
+}
+
+// ------------------------------------------------------------------------------------ 1D ends
+
+namespace {
+
+/// Parameters along curve c, starting at parameter `from` and moving towards `to`, whose
+/// consecutive straight 3D distances are the row heights; stops before the far end.
+std::vector<double> marchAlongCurve(const ICurve& c, double from, double to, Vec3 start, const LayerLaw& law,
+                                    double* lastHeight) {
+  std::vector<double> out;
+  const CurveSampling cs = sampleCurve(c, std::min(from, to), std::max(from, to), nullptr);
+  const bool forward = to > from;
+  // samples ordered from `from`
+  std::vector<double> ts(cs.t);
+  std::vector<Vec3> ps(cs.p);
+  if (!forward) {
+    std::reverse(ts.begin(), ts.end());
+    std::reverse(ps.begin(), ps.end());
+  }
+  const Vec3 farEnd = ps.back();
+  double t = ts.front();
+  Vec3 p = start;  // the CAD vertex (the mesh node), which may sit off the curve within tolerance
+  size_t j = 0;
+  for (int k = 0; k < law.layers; ++k) {
+    const double h = law.height(k);
+    // the far end must stay clearly beyond the new point
+    if (dist(p, farEnd) < 1.5 * h) break;
+    // first sample at chord distance >= h, then bisection on the parameter
+    while (j + 1 < ps.size() && dist(ps[j + 1], p) < h) ++j;
+    if (j + 1 >= ps.size()) break;
+    double a = ts[j], b = ts[j + 1];
+    if (dist(c.eval(a), p) > h) a = t;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (a + b);
+      if (dist(c.eval(mid), p) < h) a = mid;
+      else b = mid;
+    }
+    t = 0.5 * (a + b);
+    p = c.eval(t);
+    out.push_back(t);
+    if (lastHeight) *lastHeight = h;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<EdgeBLPoints> planEndColumns(const IGeometryModel& m, const EdgeSpecMap& specOf,
+                                         const std::vector<LayerLaw>& laws) {
+  std::vector<EdgeBLPoints> pts(m.numEdges());
+  std::vector<double> startH0(m.numEdges(), 0), endH0(m.numEdges(), 0);
+  for (int f = 0; f < m.numFaces(); ++f) {
+    const auto& wires = m.faceWires(f);
+    for (const Wire& w : wires) {
+      const int n = (int)w.uses.size();
+      for (int k = 0; k < n; ++k) {
+        const EdgeUse& u = w.uses[k];
+        const int spec = specOf[u.edge];
+        if (spec < 0 || m.edgeDegenerate(u.edge)) continue;
+        const LayerLaw& law = laws[spec];
+        // neighbour uses: next one starts where this use ends, previous one ends where it starts
+        for (int side = 0; side < 2; ++side) {
+          const EdgeUse& nb = w.uses[side == 0 ? (k + 1) % n : (k + n - 1) % n];
+          if (nb.edge == u.edge || specOf[nb.edge] >= 0 || m.edgeDegenerate(nb.edge)) continue;
+          double t0, t1;
+          m.edgeRange(nb.edge, t0, t1);
+          // the shared vertex is at the start of the next use's traversal / end of the previous'
+          const bool atStart = side == 0 ? !nb.reversed : nb.reversed;
+          auto& list = atStart ? pts[nb.edge].fromStart : pts[nb.edge].fromEnd;
+          double& h0 = atStart ? startH0[nb.edge] : endH0[nb.edge];
+          if (!list.empty() && h0 <= law.h0) continue;  // already set by a finer layer
+          auto c = m.makeCurve(nb.edge);
+          double last = 0;
+          const int vtx = m.edgeVertex(nb.edge, atStart ? 0 : 1);
+          const Vec3 start = vtx >= 0 ? m.vertexPoint(vtx) : c->eval(atStart ? t0 : t1);
+          list = atStart ? marchAlongCurve(*c, t0, t1, start, law, &last) : marchAlongCurve(*c, t1, t0, start, law, &last);
+          (atStart ? pts[nb.edge].lastHeightStart : pts[nb.edge].lastHeightEnd) = last;
+          h0 = law.h0;
+        }
+      }
+    }
+  }
+  // both ends on one short edge: keep the points of each end up to the middle
+  for (int e = 0; e < m.numEdges(); ++e) {
+    auto& p = pts[e];
+    if (p.fromStart.empty() || p.fromEnd.empty()) continue;
+    double t0, t1;
+    m.edgeRange(e, t0, t1);
+    const double mid = 0.5 * (t0 + t1);
+    while (!p.fromStart.empty() && p.fromStart.back() >= mid) p.fromStart.pop_back();
+    while (!p.fromEnd.empty() && p.fromEnd.back() <= mid) p.fromEnd.pop_back();
+  }
+  return pts;
+}
+
+// ------------------------------------------------------------------------------------ 2D march
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Column {
+  int root = -1;            ///< loop index of the root
+  int spec = -1;
+  double factor = 1;        ///< step multiplier (merged corner)
+  bool fixed = false;       ///< end column: points taken from the loop (neighbour edge nodes)
+  bool active = true;
+  int stop = 0;             ///< 0 reached N, 1 boundary, 2 collision, 3 invalid quad, 4 aspect, 5 end of edge
+  std::vector<Vec2> uv;     ///< points, [0] = root
+  std::vector<Vec3> xyz;
+  std::vector<int> ref;     ///< node refs: global (>=0) or BL-local -(k+1)
+  Vec3 dir;                 ///< current marching direction (unit, tangent plane)
+  double wEnd[2] = {0, 0};  ///< blending weights towards the run's start / end outermost column
+};
+
+class FaceLayers {
+ public:
+  FaceLayers(const ISurface& s, const std::vector<std::vector<LoopPoint>>& loops, const DomainGuard& guard,
+             const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws, FaceBLResult& out)
+      : S_(s), loops_(loops), guard_(guard), specOf_(specOf), laws_(laws), out_(out) {
+    out_.stats.assign(laws.size(), FaceBLResult::SpecStats());
+    const UVBox b = s.bounds();
+    uspan_ = std::max(b.u1 - b.u0, 1e-300);
+    vspan_ = std::max(b.v1 - b.v0, 1e-300);
+  }
+
+  void run() {
+    for (size_t L = 0; L < loops_.size(); ++L) processLoop((int)L);
+  }
+
+ private:
+  const ISurface& S_;
+  const std::vector<std::vector<LoopPoint>>& loops_;
+  const DomainGuard& guard_;
+  const EdgeSpecMap& specOf_;
+  const std::vector<LayerLaw>& laws_;
+  FaceBLResult& out_;
+  double uspan_, vspan_;
+  std::vector<Vec3> otherPts_;  ///< points of already grown runs (collision tests)
+  std::vector<double> otherH_;
+
+  bool isBL(const LoopPoint& p) const { return p.edge >= 0 && specOf_[p.edge] >= 0; }
+
+  Vec3 normalAt(Vec2 uv) const {
+    Vec3 n;
+    if (!S_.normal(uv, n)) n = {0, 0, 1};
+    return n;
+  }
+
+  /// (u,v) step for a 3D tangent step d at uv (first order).
+  Vec2 uvStep(Vec2 uv, Vec3 d) const {
+    Vec3 p, du, dv;
+    S_.d1(uv, p, du, dv);
+    const double E = dot(du, du), F = dot(du, dv), G = dot(dv, dv), det = E * G - F * F;
+    if (!(det > 1e-300)) return {0, 0};
+    const double a = dot(du, d), b = dot(dv, d);
+    return {(G * a - F * b) / det, (E * b - F * a) / det};
+  }
+
+  /// Point at straight 3D distance h from (uv, x) in direction d, on the surface.
+  bool step(Vec2 uv, Vec3 x, Vec3 d, double h, Vec2& uvOut, Vec3& xOut) const {
+    Vec2 q = uv + uvStep(uv, h * d);
+    Vec3 target = x + h * d;
+    Vec3 p;
+    for (int it = 0; it < 4; ++it) {
+      if (!S_.project(target, q, &p, 0.0)) return false;
+      const double l = dist(p, x);
+      if (!(l > 0)) return false;
+      if (std::fabs(l - h) <= 1e-7 * h) break;
+      target = x + (h / l) * (p - x);
+    }
+    uvOut = q;
+    xOut = p;
+    return std::fabs(dist(p, x) - h) <= 1e-3 * h;
+  }
+
+  bool crossesLoops(Vec2 a, Vec2 b, int skipLoop, int skipA, int skipB) const {
+    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
+    for (size_t L = 0; L < loops_.size(); ++L) {
+      const auto& lp = loops_[L];
+      const int n = (int)lp.size();
+      for (int i = 0; i < n; ++i) {
+        if ((int)L == skipLoop && (i == skipA || i == skipB)) continue;
+        const Vec2 c = lp[i].uv, d = lp[(i + 1) % n].uv;
+        if (std::max(c.x, d.x) < x0 || std::min(c.x, d.x) > x1 || std::max(c.y, d.y) < y0 ||
+            std::min(c.y, d.y) > y1)
+          continue;
+        if (segmentsCross(a, b, c, d)) return true;
+      }
+    }
+    return false;
+  }
+
+  void processLoop(int L) {
+    const auto& lp = loops_[L];
+    const int n = (int)lp.size();
+    // segment i = (i, i+1) is BL when its edge is a BL edge
+    std::vector<char> bl(n);
+    int count = 0;
+    for (int i = 0; i < n; ++i) count += bl[i] = isBL(lp[i]) ? 1 : 0;
+    if (!count) return;
+    // runs of consecutive BL segments
+    struct Run {
+      int a, nseg;
+    };
+    std::vector<Run> runs;
+    if (count == n) {
+      runs.push_back({0, n});
+    } else {
+      int start = 0;
+      while (bl[start] || !bl[(start + 1) % n]) start = (start + 1) % n;  // start: last non-BL before a run
+      for (int k = 0, i = (start + 1) % n; k < n; ++k, i = (i + 1) % n) {
+        if (bl[i] && !bl[(i + n - 1) % n]) {
+          int len = 0;
+          while (bl[(i + len) % n] && len < n) ++len;
+          runs.push_back({i, len});
+        }
+      }
+    }
+    for (const Run& r : runs) growRun(L, r.a, r.nseg, r.nseg == n);
+  }
+
+  /// Number of loop points after (dir = +1) or before (dir = -1) index i that form the end column:
+  /// consecutive distances equal the row heights.
+  int endColumnLength(int L, int i, int dir, const LayerLaw& law) const {
+    const auto& lp = loops_[L];
+    const int n = (int)lp.size();
+    int k = 0;
+    int cur = i;
+    while (k < law.layers) {
+      const int nxt = ((cur + dir) % n + n) % n;
+      if (isBL(dir > 0 ? lp[cur] : lp[nxt])) break;
+      const double d = dist(lp[cur].xyz, lp[nxt].xyz);
+      if (std::fabs(d - law.height(k)) > 1e-3 * law.height(k)) break;
+      ++k;
+      cur = nxt;
+    }
+    return k;
+  }
+
+  void growRun(int L, int a, int nseg, bool closed) {
+    const auto& lp = loops_[L];
+    const int n = (int)lp.size();
+    auto at = [&](int i) -> const LoopPoint& { return lp[((i % n) + n) % n]; };
+    // loop direction sign: +1 when the face lies to the left of the loop (n x t points inside)
+    const int mid = a + nseg / 2;
+    const Vec3 tm = at(mid + 1).xyz - at(mid).xyz;
+    const Vec2 uvm = 0.5 * (at(mid).uv + at(mid + 1).uv);
+    const Vec3 bm = normalized(cross(normalAt(uvm), tm));
+    const double probe = 1e-3 * norm(tm);
+    const bool leftIn = guard_.inside(uvm + uvStep(uvm, probe * bm));
+    const double sgn = leftIn ? 1.0 : -1.0;
+
+    // columns at the run's points (corners may get several)
+    std::vector<Column> cols;
+    const int npts = closed ? nseg : nseg + 1;
+    for (int j = 0; j < npts; ++j) {
+      const int i = a + j;
+      const LoopPoint& p = at(i);
+      const bool first = !closed && j == 0, last = !closed && j == npts - 1;
+      const int specIn = at(i - 1).edge >= 0 ? specOf_[at(i - 1).edge] : -1;
+      const int specOut = at(i).edge >= 0 ? specOf_[at(i).edge] : -1;
+      const int spec = first ? specOut : (last ? specIn : (specOut >= 0 ? specOut : specIn));
+      const LayerLaw& law = laws_[spec];
+      Column base;
+      base.root = ((i % n) + n) % n;
+      base.spec = spec;
+      base.uv.push_back(p.uv);
+      base.xyz.push_back(p.xyz);
+      base.ref.push_back(p.node);
+      if (first || last) {
+        // end column: its points are the neighbouring edge's first nodes
+        const int dir = first ? -1 : +1;
+        const int len = endColumnLength(L, i, dir, law);
+
+        base.fixed = true;
+        base.active = false;
+        base.stop = len >= law.layers ? 0 : 5;
+        for (int k = 1; k <= len; ++k) {
+          const LoopPoint& q = at(i + dir * k);
+          base.uv.push_back(q.uv);
+          base.xyz.push_back(q.xyz);
+          base.ref.push_back(q.node);
+        }
+        cols.push_back(base);
+        continue;
+      }
+      // interior point: tangents of the incoming and outgoing segments
+      const Vec3 n0 = normalAt(p.uv);
+      const Vec3 tin = normalized(p.xyz - at(i - 1).xyz), tout = normalized(at(i + 1).xyz - p.xyz);
+      const Vec3 bin = sgn * normalized(cross(n0, tin)), bout = sgn * normalized(cross(n0, tout));
+      const bool vertex = at(i - 1).edge != at(i).edge;
+      const double turn = std::atan2(dot(cross(tin, tout), n0) * sgn, dot(tin, tout));  // > 0: face corner < 180
+      if (vertex && turn < -kPi / 6) {
+        // reflex corner of the face (> 210 degrees): a fan from bin to bout through the outside
+        const double ang = -turn;
+        const int m = std::max(1, (int)std::ceil(ang / (kPi / 6)));
+        for (int f = 0; f <= m; ++f) {
+          const double s = (double)f / m;
+          // rotate bin towards bout about the normal (the short way round is the fan's way)
+          Vec3 d = normalized((1 - s) * bin + s * bout);
+          if (norm2((1 - s) * bin + s * bout) < 1e-6) d = normalized(cross(n0, bin) * (sgn > 0 ? -1.0 : 1.0));
+          Column c = base;
+          c.dir = d;
+          cols.push_back(c);
+        }
+        ++out_.stats[spec].fans;
+        continue;
+      }
+      Column c = base;
+      Vec3 d = normalized(bin + bout);
+      if (vertex && turn > kPi / 6) {
+        // convex corner of the face: one merged column, longer steps keep rows parallel
+        const double half = 0.5 * (kPi - turn);
+        c.factor = std::min(2.0, 1.0 / std::max(std::sin(half), 0.5));
+        ++out_.stats[spec].merges;
+      }
+      c.dir = d;
+      cols.push_back(c);
+    }
+    // near a run end, columns lean towards the outermost column (which runs along the neighbouring
+    // edge, at whatever angle that edge makes): weight 1 at the end, 0 at 1.2 thickness
+    if (!closed && cols.size() > 2) {
+      double thick = 0;
+      for (const auto& c : cols) thick = std::max(thick, laws_[c.spec].offset(laws_[c.spec].layers));
+      std::vector<double> s(cols.size(), 0);
+      for (size_t i = 1; i < cols.size(); ++i) s[i] = s[i - 1] + dist(cols[i].xyz[0], cols[i - 1].xyz[0]);
+      const double total = s.back();
+      for (size_t i = 0; i < cols.size(); ++i) {
+        if (cols[i].fixed) continue;
+        auto w = [&](double d) { return std::max(0.0, 1.0 - d / std::max(1.2 * thick, 1e-300)); };
+        if (cols.front().fixed && cols.front().xyz.size() > 1) cols[i].wEnd[0] = w(s[i]);
+        if (cols.back().fixed && cols.back().xyz.size() > 1) cols[i].wEnd[1] = w(total - s[i]);
+      }
+    }
+    march(L, cols, closed);
+    emit(L, a, nseg, closed, cols);
+  }
+
+  void march(int L, std::vector<Column>& cols, bool closed) {
+    const int m = (int)cols.size();
+    int maxLayers = 0;
+    for (auto& c : cols) maxLayers = std::max(maxLayers, laws_[c.spec].layers);
+    for (int k = 0; k < maxLayers; ++k) {
+      // 1) advance every active column by its row height
+      std::vector<char> moved(m, 0);
+      for (int i = 0; i < m; ++i) {
+        Column& c = cols[i];
+        if (!c.active) continue;
+        const LayerLaw& law = laws_[c.spec];
+        if (k >= law.layers) {
+          c.active = false;
+          c.stop = 0;
+          continue;
+        }
+        const double h = law.height(k) * c.factor;
+        if (law.maxAspect > 0) {
+          const double spacing = rowSpacing(cols, i, closed);
+          if (spacing > 0 && spacing / law.height(k) < law.maxAspect) {
+            c.active = false;
+            c.stop = 4;
+            continue;
+          }
+        }
+        Vec2 uv;
+        Vec3 x;
+        const bool okStep = step(c.uv.back(), c.xyz.back(), marchDirection(cols, i, k), h, uv, x);
+        const bool okIn = okStep && guard_.inside(uv);
+        const bool okCross = okIn && !crossesLoops(c.uv.back(), uv, L, k == 0 ? c.root : -1, k == 0 ? ((c.root - 1 + (int)loops_[L].size()) % (int)loops_[L].size()) : -1);
+        if (!okCross) {
+          c.active = false;
+          c.stop = 1;
+          continue;
+        }
+        if (nearOther(x, 0.5 * law.height(k))) {
+          c.active = false;
+          c.stop = 2;
+          continue;
+        }
+        c.uv.push_back(uv);
+        c.xyz.push_back(x);
+        c.ref.push_back(0);
+        moved[i] = 1;
+      }
+      // 2) the new quads must be valid: positive in (u,v), facing like the surface
+      bool changed = true;
+      while (changed) {
+        changed = false;
+        for (int i = 0; i + 1 < m || (closed && i < m); ++i) {
+          const int j = (i + 1) % m;
+          Column &A = cols[i], &B = cols[j];
+          if ((int)A.uv.size() < k + 2 || (int)B.uv.size() < k + 2) continue;
+          if (!(moved[i] || moved[j])) continue;
+          if (A.root == B.root && k == 0) continue;  // fan triangle at a shared root
+          if (quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
+            continue;
+          for (Column* c : {&A, &B}) {
+            if (c->fixed || (int)c->uv.size() < k + 2) continue;
+            c->uv.pop_back();
+            c->xyz.pop_back();
+            c->ref.pop_back();
+            c->active = false;
+            c->stop = 3;
+            changed = true;
+          }
+        }
+      }
+      // 3) new directions from the new row: b = n x (row tangent), same side as before
+      for (int i = 0; i < m; ++i) {
+        Column& c = cols[i];
+        if (!c.active || (int)c.uv.size() < k + 2) continue;
+        const int ip = closed ? (i + m - 1) % m : std::max(i - 1, 0);
+        const int in = closed ? (i + 1) % m : std::min(i + 1, m - 1);
+        const Vec3 pPrev = pointAt(cols[ip], k + 1), pNext = pointAt(cols[in], k + 1);
+        Vec3 t = pNext - pPrev;
+        if (norm2(t) < 1e-300) continue;
+        const Vec3 nn = normalAt(c.uv.back());
+        Vec3 d = normalized(cross(nn, t));
+        if (dot(d, c.dir) < 0) d = -d;
+        // keep fan columns and corner columns pointing their own way: blend with the old direction
+        if (ip == i || in == i || samePosition(cols[ip], cols[i], 0) || samePosition(cols[in], cols[i], 0))
+          d = normalized(d + c.dir);
+        // near the run ends the rows are skewed by the outermost columns: there the column keeps
+        // its own direction (transported into the new tangent plane) instead of the row normal
+        const double w = std::max(c.wEnd[0], c.wEnd[1]);
+        const Vec3 transported = normalized(c.dir - dot(c.dir, nn) * nn);
+        d = normalized((1 - w) * d + w * transported);
+        c.dir = normalized(d - dot(d, nn) * nn);
+      }
+    }
+    for (auto& c : cols)
+      if (c.active) {
+        c.active = false;
+        c.stop = 0;
+      }
+    for (auto& c : cols)
+      for (size_t k = 1; k < c.xyz.size(); ++k) {
+        otherPts_.push_back(c.xyz[k]);
+        otherH_.push_back(laws_[c.spec].height((int)k - 1));
+      }
+  }
+
+  /// Direction a column has at layer k: marched columns their marching direction, end columns the
+  /// direction of their next segment along the edge (or their last one).
+  static Vec3 directionOf(const Column& c, int k) {
+    if (!c.fixed) return c.dir;
+    const size_t n = c.xyz.size();
+    if (n < 2) return {0, 0, 0};
+    const size_t a = std::min<size_t>(k, n - 2);
+    return normalized(c.xyz[a + 1] - c.xyz[a]);
+  }
+
+  /// The direction of column i for layer k: its row-orthogonal direction, leaning towards the
+  /// outermost columns near the run ends; the lean grows over the first layers, so the first
+  /// segment stays orthogonal to the edge.
+  Vec3 marchDirection(const std::vector<Column>& cols, int i, int k) const {
+    const Column& c = cols[i];
+    if (c.wEnd[0] == 0 && c.wEnd[1] == 0) return c.dir;
+    const double ramp = std::min(1.0, k / 3.0);
+    Vec3 d = c.dir;
+    if (c.wEnd[0] > 0) d += (ramp * c.wEnd[0]) * (directionOf(cols.front(), k) - c.dir);
+    if (c.wEnd[1] > 0) d += (ramp * c.wEnd[1]) * (directionOf(cols.back(), k) - c.dir);
+    const Vec3 nn = normalAt(c.uv.back());
+    d = d - dot(d, nn) * nn;
+    return norm2(d) > 1e-20 ? normalized(d) : c.dir;
+  }
+
+  void smoothDirections(std::vector<Column>& cols, int k, bool closed) const {
+    const int m = (int)cols.size();
+    for (int it = 0; it < 3; ++it) {
+      std::vector<Vec3> nd(m);
+      for (int i = 0; i < m; ++i) {
+        Column& c = cols[i];
+        nd[i] = c.dir;
+        if (!c.active || c.fixed) continue;
+        Vec3 sum{0, 0, 0};
+        int cnt = 0;
+        for (int j : {i - 1, i + 1}) {
+          if (!closed && (j < 0 || j >= m)) continue;
+          const Column& o = cols[(j + m) % m];
+          if (o.root == c.root) continue;  // fan siblings keep their spread
+          const Vec3 d = directionOf(o, k);
+          if (norm2(d) == 0) continue;
+          sum += d;
+          ++cnt;
+        }
+        if (!cnt) continue;
+        const Vec3 nn = normalAt(c.uv.back());
+        Vec3 d = c.dir + (0.5 / cnt) * (sum - (double)cnt * c.dir);
+        d = d - dot(d, nn) * nn;
+        if (norm2(d) > 1e-20) nd[i] = normalized(d);
+      }
+      for (int i = 0; i < m; ++i) cols[i].dir = nd[i];
+    }
+  }
+
+  static bool samePosition(const Column& a, const Column& b, int k) {
+    return a.root == b.root && k == 0;
+  }
+
+  /// A column's point at layer k, or its top when it stopped lower.
+  static Vec3 pointAt(const Column& c, int k) { return c.xyz[std::min<size_t>(k, c.xyz.size() - 1)]; }
+
+  double rowSpacing(const std::vector<Column>& cols, int i, bool closed) const {
+    const int m = (int)cols.size();
+    double s = 0;
+    int n = 0;
+    for (int j : {i - 1, i + 1}) {
+      if (!closed && (j < 0 || j >= m)) continue;
+      const Column& o = cols[(j + m) % m];
+      s += dist(o.xyz[std::min(o.xyz.size(), cols[i].xyz.size()) - 1], cols[i].xyz.back());
+      ++n;
+    }
+    return n ? s / n : 0;
+  }
+
+  bool nearOther(Vec3 x, double d) const {
+    for (size_t i = 0; i < otherPts_.size(); ++i)
+      if (dist(otherPts_[i], x) < std::max(d, 0.5 * otherH_[i])) return true;
+    return false;
+  }
+
+  bool quadValid(Vec2 a, Vec2 b, Vec2 c, Vec2 d, Vec3 A, Vec3 B, Vec3 C, Vec3 D) const {
+    // both triangulations of the quad positive in (u,v) in the loop's orientation sense
+    const int o1 = orient2d(a, b, c), o2 = orient2d(a, c, d), o3 = orient2d(a, b, d), o4 = orient2d(b, c, d);
+    const bool pos = o1 > 0 && o2 > 0 && o3 > 0 && o4 > 0;
+    const bool neg = o1 < 0 && o2 < 0 && o3 < 0 && o4 < 0;
+    if (!pos && !neg) return false;
+    // not folded in 3D: the two halves face the same way
+    const Vec3 n1 = cross(B - A, C - A), n2 = cross(C - A, D - A);
+    return dot(n1, n2) > 0;
+  }
+
+  int newNode(Vec2 uv, Vec3 x) {
+    out_.nodes.push_back({uv, x});
+    return -(int)out_.nodes.size();
+  }
+
+  void emit(int L, int a, int nseg, bool closed, std::vector<Column>& cols) {
+    const auto& lp = loops_[L];
+    const int n = (int)lp.size();
+    const int m = (int)cols.size();
+    // node refs for marched points
+    for (auto& c : cols)
+      for (size_t k = 1; k < c.xyz.size(); ++k)
+        if (!c.fixed) c.ref[k] = newNode(c.uv[k], c.xyz[k]);
+    // statistics
+    for (auto& c : cols) {
+      auto& st = out_.stats[c.spec];
+      const int layers = (int)c.xyz.size() - 1;
+      ++st.columns;
+      st.minLayers = std::min(st.minLayers, layers);
+      st.maxLayers = std::max(st.maxLayers, layers);
+      if (layers >= laws_[c.spec].layers) ++st.fullColumns;
+      switch (c.stop) {
+        case 1: ++st.stopBoundary; break;
+        case 2: ++st.stopCollision; break;
+        case 3: ++st.stopInvalid; break;
+        case 4: ++st.stopAspect; break;
+        case 5: ++st.stopEnd; break;
+        default: break;
+      }
+    }
+    // elements between consecutive columns
+    const int pairs = closed ? m : m - 1;
+    for (int i = 0; i < pairs; ++i) {
+      const Column &A = cols[i], &B = cols[(i + 1) % m];
+      const int kmax = (int)std::min(A.xyz.size(), B.xyz.size()) - 1;
+      for (int k = 0; k < kmax; ++k) {
+        if (A.root == B.root && k == 0) {
+          // fan: triangle root, B1, A1 (orientation fixed below)
+          addTri(A.ref[0], A.uv[0], B.ref[1], B.uv[1], A.ref[1], A.uv[1]);
+          continue;
+        }
+        addQuad(A.ref[k], A.uv[k], B.ref[k], B.uv[k], B.ref[k + 1], B.uv[k + 1], A.ref[k + 1], A.uv[k + 1]);
+      }
+    }
+    // the front: tops of the columns with stairs between different heights
+    std::vector<LoopPoint> front;
+    std::vector<double> layerH;  // height of the row below each front point
+    auto push = [&](const Column& c, int k) {
+      LoopPoint p;
+      p.uv = c.uv[k];
+      p.xyz = c.xyz[k];
+      p.node = c.ref[k];
+      p.edge = -1;
+      if (!front.empty() && front.back().node == p.node) return;
+      front.push_back(p);
+      layerH.push_back(k > 0 ? laws_[c.spec].height(k - 1) : 0.0);
+    };
+    for (int i = 0; i < m; ++i) {
+      const Column& A = cols[i];
+      const int ka = (int)A.xyz.size() - 1;
+      push(A, ka);
+      if (!closed && i == m - 1) break;
+      const Column& B = cols[(i + 1) % m];
+      const int kb = (int)B.xyz.size() - 1;
+      for (int k = ka - 1; k >= kb; --k) push(A, k);   // down column A
+      for (int k = std::min(ka, kb); k < kb; ++k) push(B, k);  // up column B
+    }
+    if (closed && front.size() > 1 && front.front().node == front.back().node) front.pop_back();
+    // hand-off sizes: the triangles on the front are about as tall as the last row (a smaller
+    // size would make a jump), and not smaller than the front spacing
+    for (size_t i = 0; i < front.size(); ++i) {
+      const double l0 = i > 0 ? dist(front[i].xyz, front[i - 1].xyz) : 0;
+      const double l1 = i + 1 < front.size() ? dist(front[i].xyz, front[i + 1].xyz) : 0;
+      const double seg = (l0 > 0 && l1 > 0) ? 0.5 * (l0 + l1) : std::max(l0, l1);
+      const double h = std::max(seg, std::min(layerH[i] * 1.15, 2.0 * seg));
+      if (h > 0) out_.frontSizes.emplace_back(front[i].xyz, h);
+    }
+    // replace the run (with its end columns) by the front in this loop
+    Replace rp;
+    rp.loop = L;
+    if (closed) {
+      rp.from = 0;
+      rp.to = n - 1;
+      rp.whole = true;
+    } else {
+      const int lenA = (int)cols.front().xyz.size() - 1, lenB = (int)cols.back().xyz.size() - 1;
+      rp.from = ((a - lenA) % n + n) % n;
+      rp.to = ((a + nseg + lenB) % n + n) % n;
+    }
+    rp.front = std::move(front);
+    replaces_.push_back(std::move(rp));
+  }
+
+  void addQuad(int r0, Vec2 u0, int r1, Vec2 u1, int r2, Vec2 u2, int r3, Vec2 u3) {
+    std::array<int, 4> q{r0, r1, r2, r3};
+    std::array<Vec2, 4> u{u0, u1, u2, u3};
+    if (area2(u0, u1, u2) + area2(u0, u2, u3) < 0) {
+      std::swap(q[1], q[3]);
+      std::swap(u[1], u[3]);
+    }
+    out_.quads.push_back(q);
+    out_.quadUv.push_back(u);
+  }
+  void addTri(int r0, Vec2 u0, int r1, Vec2 u1, int r2, Vec2 u2) {
+    std::array<int, 3> t{r0, r1, r2};
+    std::array<Vec2, 3> u{u0, u1, u2};
+    if (area2(u0, u1, u2) < 0) {
+      std::swap(t[1], t[2]);
+      std::swap(u[1], u[2]);
+    }
+    out_.tris.push_back(t);
+    out_.triUv.push_back(u);
+  }
+
+ public:
+  struct Replace {
+    int loop = 0, from = 0, to = 0;
+    bool whole = false;
+    std::vector<LoopPoint> front;
+  };
+  std::vector<Replace> replaces_;
+
+  /// The face loops with every grown run replaced by its front.
+  void buildLoops() {
+    out_.loops.clear();
+    for (size_t L = 0; L < loops_.size(); ++L) {
+      const auto& lp = loops_[L];
+      const int n = (int)lp.size();
+      std::vector<int> owner(n, -1);
+      std::vector<const Replace*> mine;
+      for (const Replace& r : replaces_)
+        if (r.loop == (int)L) mine.push_back(&r);
+      if (mine.empty()) {
+        out_.loops.push_back(lp);
+        continue;
+      }
+      bool whole = false;
+      for (const Replace* r : mine) {
+        if (r->whole) {
+          whole = true;
+          out_.loops.push_back(r->front);
+          continue;
+        }
+        for (int i = r->from;; i = (i + 1) % n) {
+          owner[i] = (int)(r - replaces_.data());
+          if (i == r->to) break;
+        }
+      }
+      if (whole) continue;
+      // start at a point outside every run
+      int s0 = -1;
+      for (int i = 0; i < n; ++i)
+        if (owner[i] < 0) {
+          s0 = i;
+          break;
+        }
+      std::vector<LoopPoint> loop;
+      if (s0 < 0) {
+        // runs cover the whole loop: concatenate fronts in order
+        int i = mine.front()->from;
+        for (int k = 0; k < n; ++k, i = (i + 1) % n) {
+          const Replace& r = replaces_[owner[i]];
+          if (i == r.from)
+            for (const LoopPoint& q : r.front) loop.push_back(q);
+        }
+      } else {
+        for (int k = 0, i = s0; k < n; ++k, i = (i + 1) % n) {
+          if (owner[i] < 0) {
+            loop.push_back(lp[i]);
+            continue;
+          }
+          const Replace& r = replaces_[owner[i]];
+          if (i == r.from)
+            for (const LoopPoint& q : r.front) loop.push_back(q);
+        }
+      }
+      // adjacent runs share their end points: drop repeated nodes
+      std::vector<LoopPoint> clean;
+      for (const LoopPoint& q : loop)
+        if (clean.empty() || clean.back().node != q.node) clean.push_back(q);
+      while (clean.size() > 1 && clean.front().node == clean.back().node) clean.pop_back();
+      out_.loops.push_back(std::move(clean));
+    }
+  }
+};
+
+}  // namespace
+
+FaceBLResult growFaceLayers(const ISurface& s, bool, const std::vector<std::vector<LoopPoint>>& loops,
+                            const DomainGuard& guard, const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws,
+                            const std::vector<EdgeBLPoints>&) {
+  FaceBLResult out;
+  FaceLayers fl(s, loops, guard, specOf, laws, out);
+  fl.run();
+  fl.buildLoops();
+  return out;
+}
+
+}  // namespace paramesh

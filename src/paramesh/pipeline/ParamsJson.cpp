@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/pipeline/ParamsJson.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "paramesh/io/Json.hpp"
+#include "paramesh/util/Error.hpp"
+
+namespace paramesh {
+
+namespace {
+
+double num(const Json& j, const std::string& key) {
+  try {
+    return j.number();
+  } catch (const Error&) {
+    throw ParameterError("parameter '" + key + "' must be a number");
+  }
+}
+int integer(const Json& j, const std::string& key) {
+  const double v = num(j, key);
+  if (v != (double)(long long)v) throw ParameterError("parameter '" + key + "' must be an integer");
+  return (int)v;
+}
+bool boolean(const Json& j, const std::string& key) {
+  try {
+    return j.boolean();
+  } catch (const Error&) {
+    throw ParameterError("parameter '" + key + "' must be true or false");
+  }
+}
+std::vector<int> ints(const Json& j, const std::string& key) {
+  std::vector<int> out;
+  if (!j.isArray()) {
+    out.push_back(integer(j, key));
+    return out;
+  }
+  for (size_t i = 0; i < j.size(); ++i) out.push_back(integer(j.at(i), key + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+LocalSize localSize(const Json& j, const std::string& key) {
+  LocalSize l;
+  if (j.type() == Json::Type::String) {
+    const std::string s = j.str();
+    const auto eq = s.find('=');
+    if (eq == std::string::npos) throw ParameterError(key + ": expected 'FaceN=size', got '" + s + "'");
+    const std::string name = s.substr(0, eq);
+    std::string digits;
+    if (name.rfind("Face", 0) == 0) { l.kind = LocalSize::Kind::Face; digits = name.substr(4); }
+    else if (name.rfind("Edge", 0) == 0) { l.kind = LocalSize::Kind::Edge; digits = name.substr(4); }
+    else if (name.rfind("Vertex", 0) == 0) { l.kind = LocalSize::Kind::Vertex; digits = name.substr(6); }
+    else throw ParameterError(key + ": expected FaceN, EdgeN or VertexN, got '" + name + "'");
+    try {
+      l.entities = {std::stoi(digits)};
+      l.size = std::stod(s.substr(eq + 1));
+    } catch (const std::exception&) {
+      throw ParameterError(key + ": cannot read '" + s + "'");
+    }
+    return l;
+  }
+  if (!j.isObject()) throw ParameterError(key + " must be an object or a 'FaceN=size' string");
+  int kinds = 0;
+  for (const std::string& k : j.keys()) {
+    if (k == "faces") { l.kind = LocalSize::Kind::Face; l.entities = ints(j.at(k), key + ".faces"); ++kinds; }
+    else if (k == "edges") { l.kind = LocalSize::Kind::Edge; l.entities = ints(j.at(k), key + ".edges"); ++kinds; }
+    else if (k == "vertices") { l.kind = LocalSize::Kind::Vertex; l.entities = ints(j.at(k), key + ".vertices"); ++kinds; }
+    else if (k == "size") l.size = num(j.at(k), key + ".size");
+    else throw ParameterError(key + ": unknown key '" + k + "'");
+  }
+  if (kinds != 1) throw ParameterError(key + ": give exactly one of faces, edges, vertices");
+  return l;
+}
+
+BoundaryLayerSpec boundaryLayer(const Json& j, const std::string& key) {
+  if (!j.isObject()) throw ParameterError(key + " must be an object");
+  BoundaryLayerSpec b;
+  for (const std::string& k : j.keys()) {
+    const Json& v = j.at(k);
+    const std::string kk = key + "." + k;
+    if (k == "edges") b.edges = ints(v, kk);
+    else if (k == "first_height") b.firstHeight = num(v, kk);
+    else if (k == "growth") b.growth = num(v, kk);
+    else if (k == "layers") b.layers = integer(v, kk);
+    else if (k == "thickness") b.thickness = num(v, kk);
+    else if (k == "max_aspect") b.maxAspect = num(v, kk);
+    else if (k == "quads") b.quads = boolean(v, kk);
+    else throw ParameterError(key + ": unknown key '" + k + "'");
+  }
+  return b;
+}
+
+}  // namespace
+
+void applyParamsJson(const std::string& text, MeshParams& p) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Error& e) {
+    throw ParameterError(std::string("parameter file: ") + e.what());
+  }
+  if (!j.isObject()) throw ParameterError("parameter file: the top level must be an object");
+  for (const std::string& k : j.keys()) {
+    const Json& v = j.at(k);
+    if (k == "size") p.size = num(v, k);
+    else if (k == "min_size") p.minSize = num(v, k);
+    else if (k == "max_size") p.maxSize = num(v, k);
+    else if (k == "curvature_angle") p.curvatureAngle = num(v, k);
+    else if (k == "max_deviation") p.maxDeviation = num(v, k);
+    else if (k == "grading") p.grading = num(v, k);
+    else if (k == "threads") p.threads = integer(v, k);
+    else if (k == "order") p.order = integer(v, k);
+    else if (k == "quads") p.quads = boolean(v, k);
+    else if (k == "optimize_passes") p.optimizePasses = integer(v, k);
+    else if (k == "local_sizes") {
+      if (!v.isArray()) throw ParameterError("parameter 'local_sizes' must be a list");
+      for (size_t i = 0; i < v.size(); ++i) p.localSizes.push_back(localSize(v.at(i), "local_sizes[" + std::to_string(i) + "]"));
+    } else if (k == "boundary_layers") {
+      if (!v.isArray()) throw ParameterError("parameter 'boundary_layers' must be a list");
+      for (size_t i = 0; i < v.size(); ++i)
+        p.boundaryLayers.push_back(boundaryLayer(v.at(i), "boundary_layers[" + std::to_string(i) + "]"));
+    } else {
+      throw ParameterError("parameter file: unknown key '" + k + "'");
+    }
+  }
+}
+
+void applyParamsFile(const std::string& path, MeshParams& p) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot open the parameter file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  applyParamsJson(ss.str(), p);
+}
+
+}  // namespace paramesh
