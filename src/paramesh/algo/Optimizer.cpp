@@ -409,6 +409,65 @@ int Optimizer::collapsePass(double shortRatio, double maxRatio) {
   return n;
 }
 
+int Optimizer::repairFrontApexes(double ratio) {
+  int moved = 0;
+  auto isFront = [&](int v) { return (T_.verts[v].flags & VF_BOUNDARY) && T_.verts[v].node < 0; };
+  for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    if (T_.tris[t].dead) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Triangle& tr = T_.tris[t];
+      if (!T_.isConstrained(t, i)) continue;
+      const int a = tr.v[nx(i)], b = tr.v[pv(i)], c = tr.v[i];
+      if (!isFront(a) || !isFront(b)) continue;
+      TriVertex& C = T_.verts[c];
+      const Vec3 A = T_.verts[a].xyz, B = T_.verts[b].xyz;
+      const double base = dist(A, B);
+      const double h = 0.5 * (T_.verts[a].h + T_.verts[b].h);
+      const double ideal = 0.8660254037844386 * std::min(h, 1.5 * base);
+      const double ht = norm(cross(B - A, C.xyz - A)) / base;
+      if (ht >= ratio * ideal) continue;
+      if (C.flags & (VF_BOUNDARY | VF_POLE | VF_DEAD)) continue;
+      const Vec3 n = normalized(T_.verts[a].normal + T_.verts[b].normal);
+      const Vec3 dir = normalized(cross(n, B - A));
+      const Vec3 goal = 0.5 * (A + B) + ideal * (dot(dir, C.xyz - A) >= 0 ? dir : -dir);
+      bool closed = true;
+      std::vector<int> rg;
+      T_.ring(c, rg, &closed);
+      if (!closed) continue;
+      double q0 = 1e300;
+      for (int r : rg) q0 = std::min(q0, quality(r));
+      const Vec2 oldUv = C.uv;
+      const Vec3 oldXyz = C.xyz;
+      for (double relax : {1.0, 0.8, 0.6, 0.4}) {
+        Vec2 s = oldUv;
+        Vec3 p;
+        if (!C_.stepAndProject(s, oldXyz + relax * (goal - oldXyz), p) || !C_.inDomain(s)) continue;
+        C.uv = s;
+        C.xyz = p;
+        bool ok = true;
+        double q1 = 1e300;
+        for (int r : rg) {
+          const Triangle& R = T_.tris[r];
+          if (!valid(R.v[0], R.v[1], R.v[2])) {
+            ok = false;
+            break;
+          }
+          q1 = std::min(q1, quality(r));
+        }
+        // the front triangle gets taller; the ring may lose a little quality, never much
+        if (ok && q1 >= std::min(q0, 0.6) * 0.9) {
+          C_.fill(C);
+          ++moved;
+          break;
+        }
+        C.uv = oldUv;
+        C.xyz = oldXyz;
+      }
+    }
+  }
+  return moved;
+}
+
 void Optimizer::run(int passes) {
   if (passes <= 0) return;
   splitPass(1.6);
@@ -419,6 +478,7 @@ void Optimizer::run(int passes) {
     if (f == 0 && m == 0) break;
   }
   swapPass();
+  repairFrontApexes(0.8);
 }
 
 }  // namespace paramesh

@@ -29,6 +29,10 @@ class Optimizer {
   int splitEdge(int t, int i);
   /// Collapses edges shorter than `shortRatio` * h when no edge longer than maxRatio * h appears.
   int collapsePass(double shortRatio, double maxRatio);
+  /// Triangles standing on a boundary-layer front edge (both ends face-local boundary nodes)
+  /// whose height is below `ratio` x the equilateral height of the local size: their apex (when
+  /// free) moves towards the ideal position if the ring stays valid. Returns the number of moves.
+  int repairFrontApexes(double ratio);
   /// The default schedule: split/collapse, then alternate swaps and smoothing.
   void run(int passes);
 
