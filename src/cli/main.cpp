@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // paramesh: command-line front end of the ParaMesh library.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -44,6 +45,8 @@ const char* kUsage =
     "  --bl-thickness T      total thickness\n"
     "  --bl-max-aspect A     stop a column when spacing/height falls below A (0: off)\n"
     "  --bl-quads            stretched quads (default); --bl-triangles: each quad split in two\n"
+    "  --bl-auto             grow from the automatically detected leading edges (listed in the\n"
+    "                        report); without --bl-first-height the last row is about --size\n"
     "  --params FILE.json    parameters (and several boundary-layer specs) from a JSON file\n"
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
@@ -139,6 +142,7 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--bl-thickness") { bl.thickness = parseNumber(a, next()); haveBl = true; }
     else if (a == "--bl-max-aspect") { bl.maxAspect = parseNumber(a, next()); haveBl = true; }
     else if (a == "--bl-quads") { bl.quads = true; }
+    else if (a == "--bl-auto") { bl.autoEdges = true; haveBl = true; }
     else if (a == "--bl-triangles") { bl.quads = false; }
     else if (a == "--params") paramsFile = next();
     else if (a == "--report") report = next();
@@ -165,7 +169,8 @@ int cmdMesh(int argc, char** argv) {
     }
   }
   if (haveBl) {
-    if (bl.edges.empty()) die(1, "--bl-* options need --bl-edges");
+    if (bl.edges.empty() && !bl.autoEdges) die(1, "--bl-* options need --bl-edges or --bl-auto");
+    if (bl.layers == 0 && bl.thickness == 0) bl.layers = 20;
     p.boundaryLayers.push_back(bl);
   }
   if (model.empty()) die(1, "mesh: missing MODEL");
@@ -176,6 +181,13 @@ int cmdMesh(int argc, char** argv) {
   } catch (const Error& e) {
     die(2, e.what());
   }
+  for (auto& b : p.boundaryLayers)
+    if (b.autoEdges && b.firstHeight == 0) {
+      // the last of N rows about as tall as the surface size (an isotropic hand-off)
+      const double size = p.size > 0 ? p.size : geo->boundingBox().diagonal() / 50.0;
+      const int n = b.layers > 0 ? b.layers : 20;
+      b.firstHeight = size / std::pow(b.growth, n - 1);
+    }
   LogSink sink;
   if (!quiet)
     sink = [](LogLevel l, const std::string& m) {

@@ -331,10 +331,10 @@ class FaceLayers {
       const Vec3 bin = sgn * normalized(cross(n0, tin)), bout = sgn * normalized(cross(n0, tout));
       const bool vertex = at(i - 1).edge != at(i).edge;
       const double turn = std::atan2(dot(cross(tin, tout), n0) * sgn, dot(tin, tout));  // > 0: face corner < 180
-      if (vertex && turn < -kPi / 6) {
-        // reflex corner of the face (> 210 degrees): a fan from bin to bout through the outside
+      if (vertex && turn < -kPi / 9) {
+        // reflex corner of the face (> 200 degrees): a fan from bin to bout through the outside
         const double ang = -turn;
-        const int m = std::max(1, (int)std::ceil(ang / (kPi / 6)));
+        const int m = std::max(2, (int)std::ceil(ang / (kPi / 8)));
         for (int f = 0; f <= m; ++f) {
           const double s = (double)f / m;
           // rotate bin towards bout about the normal (the short way round is the fan's way)
@@ -394,9 +394,12 @@ class FaceLayers {
           continue;
         }
         const double h = law.height(k) * c.factor;
-        if (law.maxAspect > 0) {
+        {
+          // hand-off where the row would become much taller than wide (columns converging at a
+          // skewed end): the user's aspect limit, and in any case at height > 1.5 x spacing
           const double spacing = rowSpacing(cols, i, closed);
-          if (spacing > 0 && spacing / law.height(k) < law.maxAspect) {
+          const double limit = law.maxAspect > 0 ? law.maxAspect : 1.0 / 1.5;
+          if (spacing > 0 && spacing / law.height(k) < limit) {
             c.active = false;
             c.stop = 4;
             continue;
@@ -421,6 +424,31 @@ class FaceLayers {
         c.xyz.push_back(x);
         c.ref.push_back(0);
         moved[i] = 1;
+      }
+      // 1b) columns converging on a stopped neighbour (a concave corner) stop with it: a new point
+      //     closer to a stopped top than the row height would fold the front over it
+      for (bool again = true; again;) {
+        again = false;
+        for (int i = 0; i < m; ++i) {
+          Column& c = cols[i];
+          if (!moved[i]) continue;
+          const double h = laws_[c.spec].height(k);
+          for (int j : {i - 1, i + 1}) {
+            if (!closed && (j < 0 || j >= m)) continue;
+            const Column& o = cols[(j + m) % m];
+            if (o.active || o.fixed || o.root == c.root || (int)o.xyz.size() > k + 1) continue;  // o stopped below
+            if (dist(c.xyz.back(), o.xyz.back()) < 1.5 * h) {
+              c.uv.pop_back();
+              c.xyz.pop_back();
+              c.ref.pop_back();
+              c.active = false;
+              c.stop = 2;
+              moved[i] = 0;
+              again = true;
+              break;
+            }
+          }
+        }
       }
       // 2) the new quads must be valid: positive in (u,v), facing like the surface
       bool changed = true;
@@ -541,14 +569,21 @@ class FaceLayers {
   /// A column's point at layer k, or its top when it stopped lower.
   static Vec3 pointAt(const Column& c, int k) { return c.xyz[std::min<size_t>(k, c.xyz.size() - 1)]; }
 
+  /// Mean distance from column i's current top to its neighbours' points on the same row (fan
+  /// siblings at their shared root do not count).
   double rowSpacing(const std::vector<Column>& cols, int i, bool closed) const {
     const int m = (int)cols.size();
+    const Column& c = cols[i];
+    const size_t k = c.xyz.size() - 1;
     double s = 0;
     int n = 0;
     for (int j : {i - 1, i + 1}) {
       if (!closed && (j < 0 || j >= m)) continue;
       const Column& o = cols[(j + m) % m];
-      s += dist(o.xyz[std::min(o.xyz.size(), cols[i].xyz.size()) - 1], cols[i].xyz.back());
+      if (o.root == c.root) continue;  // fan siblings spread with the distance from their root
+      const double d = dist(o.xyz[std::min(o.xyz.size() - 1, k)], c.xyz[k]);
+      if (d <= 0) continue;
+      s += d;
       ++n;
     }
     return n ? s / n : 0;
@@ -639,13 +674,13 @@ class FaceLayers {
       for (int k = std::min(ka, kb); k < kb; ++k) push(B, k);  // up column B
     }
     if (closed && front.size() > 1 && front.front().node == front.back().node) front.pop_back();
-    // hand-off sizes: the triangles on the front are about as tall as the last row (a smaller
-    // size would make a jump), and not smaller than the front spacing
+    // hand-off sizes: the triangles on the front are about as tall as the last row (so that the
+    // size does not jump), within [0.7, 1.5] of the front spacing (so that they stay well shaped)
     for (size_t i = 0; i < front.size(); ++i) {
       const double l0 = i > 0 ? dist(front[i].xyz, front[i - 1].xyz) : 0;
       const double l1 = i + 1 < front.size() ? dist(front[i].xyz, front[i + 1].xyz) : 0;
       const double seg = (l0 > 0 && l1 > 0) ? 0.5 * (l0 + l1) : std::max(l0, l1);
-      const double h = std::max(seg, std::min(layerH[i] * 1.15, 2.0 * seg));
+      const double h = layerH[i] > 0 ? std::min(std::max(1.15 * layerH[i], 0.7 * seg), 1.5 * seg) : seg;
       if (h > 0) out_.frontSizes.emplace_back(front[i].xyz, h);
     }
     // replace the run (with its end columns) by the front in this loop

@@ -11,6 +11,7 @@
 
 #include "paramesh/algo/BoundaryLayer.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
+#include "paramesh/algo/FeatureDetect.hpp"
 #include "paramesh/algo/HighOrder.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
@@ -173,6 +174,16 @@ struct Mesher::Impl {
     if (p.boundaryLayers.empty()) return;
     Timer tm;
     blSpecOf.assign(model.numEdges(), -1);
+    for (auto& spec : p.boundaryLayers) {
+      if (!spec.autoEdges) continue;
+      const auto found = proposeLeadingEdges(model, 0.0, 10.0, 10.0, nullptr, &same.edgeRep);
+      for (const RidgeCandidate& rc : found) {
+        spec.edges.push_back(rc.edge + 1);
+        report.proposedLeadingEdges.push_back({rc.edge + 1, rc.acrossCurvature > 0 ? 1.0 / rc.acrossCurvature : 0.0, rc.ratio});
+      }
+      log.info("leading edges proposed: " + std::to_string(found.size()));
+      if (found.empty()) report.warnings.push_back("no leading edge was found for the automatic boundary layer");
+    }
     for (size_t s = 0; s < p.boundaryLayers.size(); ++s) {
       blLaws.push_back(LayerLaw::from(p.boundaryLayers[s]));
       for (int e1 : p.boundaryLayers[s].edges) {

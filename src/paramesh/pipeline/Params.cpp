@@ -49,7 +49,7 @@ void MeshParams::validate() const {
   for (size_t i = 0; i < boundaryLayers.size(); ++i) {
     const BoundaryLayerSpec& b = boundaryLayers[i];
     const std::string id = "boundary layer #" + std::to_string(i + 1);
-    if (b.edges.empty()) throw ParameterError(id + ": no edge given");
+    if (b.edges.empty() && !b.autoEdges) throw ParameterError(id + ": no edge given (give edges or auto)");
     for (int e : b.edges)
       if (e < 1) throw ParameterError(id + ": edge numbers start at 1 (got " + std::to_string(e) + ")");
     if (!finite(b.firstHeight) || b.firstHeight <= 0)

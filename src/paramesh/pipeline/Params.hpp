@@ -25,6 +25,7 @@ struct BoundaryLayerSpec {
   double thickness = 0;        ///< total thickness T (0: derived from layers)
   double maxAspect = 0;        ///< a column stops when its row height reaches spacing*maxAspect^-1 ... 0 = off
   bool quads = true;           ///< stretched quads (true) or each quad split into two triangles (false)
+  bool autoEdges = false;      ///< grow from the automatically detected leading edges (edges may be empty)
 };
 
 /// Parameters of a meshing run. Defaults give a uniform-size mesh at diagonal/50.

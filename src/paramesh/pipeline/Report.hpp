@@ -47,6 +47,13 @@ struct BoundaryLayerReport {
   int elements = 0;               ///< quads (or split triangles) in the layers
 };
 
+/// An automatically proposed leading edge.
+struct ProposedEdge {
+  int edge = 0;                 ///< 1-based
+  double radius = 0;            ///< radius of curvature across the edge
+  double ratio = 0;             ///< across / along curvature
+};
+
 struct Report {
   RunStatus status = RunStatus::Ok;
   std::string message;                      ///< one-line summary (the reason when not Ok)
@@ -61,6 +68,7 @@ struct Report {
   size_t sizeSources = 0;
   std::vector<FaceReport> faces;
   std::vector<BoundaryLayerReport> boundaryLayers;
+  std::vector<ProposedEdge> proposedLeadingEdges;  ///< filled when a layer asked for auto edges
   std::vector<std::pair<std::string, double>> stageSeconds;
   QualitySummary quality;
   std::vector<std::string> warnings;

@@ -87,6 +87,17 @@ Json reportToJson(const Report& r) {
       bl.push(std::move(x));
     }
   }
+  if (!r.proposedLeadingEdges.empty()) {
+    Json& pe = j["proposed_leading_edges"];
+    pe = Json::array();
+    for (const auto& e : r.proposedLeadingEdges) {
+      Json x = Json::object();
+      x["edge"] = "Edge" + std::to_string(e.edge);
+      x["radius"] = e.radius;
+      x["curvature_ratio"] = e.ratio;
+      pe.push(std::move(x));
+    }
+  }
   Json& w = j["warnings"];
   w = Json::array();
   for (const auto& s : r.warnings) w.push(s);
