@@ -11,7 +11,9 @@
 #include <cstring>
 #include <memory>
 
+#include "paramesh/algo/FeatureDetect.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
+#include "paramesh/model/Coincidence.hpp"
 #include "paramesh/io/MeshWriters.hpp"
 #include "paramesh/io/PngRender.hpp"
 #include "paramesh/pipeline/Mesher.hpp"
@@ -169,7 +171,8 @@ PYBIND11_MODULE(_native, mod) {
       .def_readwrite("layers", &BoundaryLayerSpec::layers)
       .def_readwrite("thickness", &BoundaryLayerSpec::thickness)
       .def_readwrite("max_aspect", &BoundaryLayerSpec::maxAspect)
-      .def_readwrite("quads", &BoundaryLayerSpec::quads);
+      .def_readwrite("quads", &BoundaryLayerSpec::quads)
+      .def_readwrite("auto_edges", &BoundaryLayerSpec::autoEdges);
 
   py::class_<MeshParams>(mod, "MeshParams")
       .def(py::init<>())
@@ -207,6 +210,31 @@ PYBIND11_MODULE(_native, mod) {
       .def_property_readonly("num_vertices", [](const PyModel& m) { return m.m->numVertices(); })
       .def_property_readonly("num_solids", [](const PyModel& m) { return m.m->numSolids(); })
       .def_property_readonly("diagonal", [](const PyModel& m) { return m.m->boundingBox().diagonal(); })
+      .def(
+          "propose_leading_edges",
+          [](const PyModel& m) {
+            const Coincidence same = findCoincident(*m.m, 1e-6 * m.m->boundingBox().diagonal());
+            std::vector<RidgeCandidate> found;
+            {
+              py::gil_scoped_release nogil;
+              found = proposeLeadingEdges(*m.m, 0.0, 10.0, 10.0, nullptr, &same.edgeRep);
+            }
+            py::list out;
+            for (const auto& r : found) {
+              py::dict d;
+              d["edge"] = r.edge + 1;
+              d["radius"] = r.acrossCurvature > 0 ? 1.0 / r.acrossCurvature : 0.0;
+              d["curvature_ratio"] = std::min(r.ratio, 1e6);
+              std::vector<int> twins;
+              for (int e = 0; e < m.m->numEdges(); ++e)
+                if (same.edgeRep[e] == r.edge && e != r.edge) twins.push_back(e + 1);
+              d["coincident_edges"] = twins;
+              out.append(d);
+            }
+            return out;
+          },
+          "Edges where the surface is smooth but curves far more across than along (rounded "
+          "leading edges): list of dicts (edge, radius, curvature_ratio, coincident_edges).")
       .def(
           "edge_faces", [](const PyModel& m, int e) {
             if (e < 1 || e > m.m->numEdges())

@@ -119,6 +119,13 @@ class MeshJob:
         self.params = params if params is not None else MeshParams.from_kwargs(**kw)
         self.params.validate()
         self.model = _load(source)
+        for b in self.params.boundary_layers:
+            if b.auto and b.first_height == 0:
+                # the last of N rows about as tall as the surface size (an isotropic hand-off)
+                size = self.params.size or self.model.diagonal / 50.0
+                n = b.layers or 20
+                b.layers = n
+                b.first_height = size / b.growth ** (n - 1)
         self._mesher = _native.Mesher(self.model, self.params.to_native())
         self._lock = threading.Lock()
 
@@ -157,6 +164,14 @@ def mesh_shape(shape_or_path, progress=None, log=None, **params):
     curvature_angle, max_deviation, grading, threads, order, quads, local_sizes, boundary_layers.
     """
     return MeshJob(shape_or_path, **params).run(progress=progress, log=log)
+
+
+def propose_leading_edges(shape_or_path):
+    """Edges along which the surface is smooth but curves far more across than along (the
+    rounded leading edges of wings and blades), as dicts: edge (1-based FreeCAD number), radius
+    (across the edge), curvature_ratio, coincident_edges (twins in unsewn CAD)."""
+    _require_native()
+    return _load(shape_or_path).propose_leading_edges()
 
 
 def mesh_file(path, **params):

@@ -25,7 +25,8 @@ FIELDS = {
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
-                        "'first_height': 0.5, 'growth': 1.2, 'layers': 20 (or 'thickness')}."),
+                        "'first_height': 0.5, 'growth': 1.2, 'layers': 20 (or 'thickness'), 'quads': True}; "
+                        "{'auto': True, ...} grows from the detected leading edges."),
 }
 
 
@@ -114,6 +115,7 @@ class BoundaryLayer:
     thickness: float = 0.0      #: total thickness (length; 0: from layers)
     max_aspect: float = 0.0     #: a column stops when its row is this much thinner than the spacing... 0: off
     quads: bool = True          #: stretched quads (True) or each quad split into two triangles
+    auto: bool = False          #: grow from the automatically detected leading edges (edges may be empty)
 
     @staticmethod
     def parse(spec):
@@ -128,8 +130,10 @@ class BoundaryLayer:
 
     def validate(self, i=0):
         tag = f"boundary_layers[{i}]"
-        self.edges = _indices(f"{tag}.edges", self.edges)
-        self.first_height = _number(f"{tag}.first_height", self.first_height, lo=0, lo_open=True)
+        if not isinstance(self.auto, bool):
+            raise TypeError(f"{tag}.auto must be True or False, got {self.auto!r}")
+        self.edges = _indices(f"{tag}.edges", self.edges) if (self.edges or not self.auto) else []
+        self.first_height = _number(f"{tag}.first_height", self.first_height, lo=0, lo_open=not self.auto)
         self.growth = _number(f"{tag}.growth", self.growth, lo=1.0, hi=5.0)
         self.layers = _number(f"{tag}.layers", self.layers, lo=0, hi=1000, integer=True)
         self.thickness = _number(f"{tag}.thickness", self.thickness, lo=0)
@@ -137,7 +141,9 @@ class BoundaryLayer:
         if not isinstance(self.quads, bool):
             raise TypeError(f"{tag}.quads must be True or False, got {self.quads!r}")
         if self.layers == 0 and self.thickness == 0:
-            raise ValueError(f"{tag}: give layers or thickness")
+            if not self.auto:
+                raise ValueError(f"{tag}: give layers or thickness")
+            self.layers = 20
 
 
 @dataclass
@@ -214,6 +220,7 @@ class MeshParams:
             x.edges = list(b.edges)
             x.first_height, x.growth, x.layers = b.first_height, b.growth, b.layers
             x.thickness, x.max_aspect, x.quads = b.thickness, b.max_aspect, b.quads
+            x.auto_edges = b.auto
             bl.append(x)
         n.boundary_layers = bl
         return n

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "paramesh/pipeline/ReportJson.hpp"
 
+#include <algorithm>
 #include <fstream>
 
 #include "paramesh/util/Error.hpp"
@@ -94,7 +95,7 @@ Json reportToJson(const Report& r) {
       Json x = Json::object();
       x["edge"] = "Edge" + std::to_string(e.edge);
       x["radius"] = e.radius;
-      x["curvature_ratio"] = e.ratio;
+      x["curvature_ratio"] = std::min(e.ratio, 1e6);
       pe.push(std::move(x));
     }
   }
