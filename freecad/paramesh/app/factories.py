@@ -60,3 +60,31 @@ def make_fem_mesh(doc, part_object, analysis=None, **params):
         from ..core.api import ParaMeshError
         raise ParaMeshError(f"{obj.Label}: {msg}")
     return obj
+
+
+def make_boundary_layer(doc, mesh_obj, edges=(), first_height=1.0, growth=1.2, layers=10, thickness=0.0,
+                        max_aspect=0.0, quads=True, auto=False, name="BoundaryLayer"):
+    """A boundary-layer child of the surface mesh mesh_obj growing from edges (1-based numbers or
+    'EdgeN' of mesh_obj.Part; auto=True adds the detected leading edges at each run); give layers or
+    (layers=0 and) thickness. Not meshed until recompute."""
+    from .objects.boundary_layer import make_boundary_layer as _make
+    return _make(doc, mesh_obj, edges, first_height=first_height, growth=growth, layers=layers,
+                 thickness=thickness, max_aspect=max_aspect, quads=quads, auto=auto, name=name)
+
+
+def make_local_size(doc, mesh_obj, refs=(), size=1.0, name="LocalSize"):
+    """A local-size child of the surface mesh mesh_obj near refs ('Face3', 'Edge2', 'Vertex1' of
+    mesh_obj.Part). Not meshed until recompute."""
+    from .objects.local_size import make_local_size as _make
+    return _make(doc, mesh_obj, refs, size, name=name)
+
+
+def make_mesh_feature(mesh_obj):
+    """Creates (or refreshes) the Mesh::Feature of a surface mesh and keeps it up to date on later
+    runs (CreateMeshFeature). Returns the Mesh::Feature."""
+    return mesh_obj.Proxy.update_mesh_feature(mesh_obj)
+
+
+def export_mesh(mesh_obj, path):
+    """Writes a surface mesh to path (.msh, .vtu, .stl, .inp; .unv, .med, .vtk through FemMesh)."""
+    return mesh_obj.Proxy.export(mesh_obj, path)

@@ -32,7 +32,9 @@ double maxCurvature(const ISurface& s, Vec2 uv) {
 double curvatureSize(double k, double angleRad, double deviation, double hmin, double hmax) {
   if (!(k > 0) || !std::isfinite(k)) return hmax;
   double h = hmax;
-  if (angleRad > 0) h = std::min(h, angleRad / k);
+  // the target is a little below angle * R: mesh edges range up to ~1.3x their target, and the
+  // angle is a bound on what an element subtends, not an average
+  if (angleRad > 0) h = std::min(h, 0.75 * angleRad / k);
   if (deviation > 0) h = std::min(h, std::sqrt(8.0 * deviation / k));
   return std::clamp(h, hmin, hmax);
 }

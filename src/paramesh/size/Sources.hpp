@@ -20,8 +20,8 @@ double maxCurvature(const ISurface& s, Vec2 uv);
 /// The same from already evaluated derivatives.
 double curvatureFromD2(const SurfaceD2& d);
 
-/// Size asked by curvature kappa: the smaller of angle/kappa (an element subtends at most `angle`
-/// radians; 0: off) and sqrt(8 deviation / kappa) (chordal deviation at most `deviation`, a length;
+/// Size asked by curvature kappa: the smaller of 0.75 angle/kappa (so that elements, whose edges
+/// range up to ~1.3x the target, subtend at most `angle` radians; 0: off) and sqrt(8 deviation / kappa) (chordal deviation at most `deviation`, a length;
 /// 0: off), clamped to [hmin, hmax].
 double curvatureSize(double kappa, double angleRad, double deviation, double hmin, double hmax);
 

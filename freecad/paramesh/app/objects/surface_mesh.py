@@ -3,6 +3,9 @@
 CalculiX writer reads to find constraint nodes), the meshing parameters, and the run report.
 Recompute re-meshes when an input changed."""
 import json
+import os
+
+import numpy as np
 
 import FreeCAD
 
@@ -91,6 +94,7 @@ class SurfaceMesh(BaseProxy):
 
     def apply_result(self, obj, result):
         """Stores a finished MeshResult in the object (also used by the GUI's worker thread)."""
+        self._result = result  # kept in memory (not saved) for exports and the quality view
         fm = result.to_femmesh()
         from ..to_femmesh import add_constraint_groups
         add_constraint_groups(fm, result, obj.Part, self.analysis_constraints(obj))
@@ -107,3 +111,100 @@ class SurfaceMesh(BaseProxy):
                 mf.Label = obj.Label + " (triangles)"
                 obj.MeshFeature = mf
             mf.Mesh = result.to_mesh()
+
+    def last_result(self, obj):
+        """The MeshResult applied last in this session, or None (after a document is reopened the
+        mesh lives only in FemMesh)."""
+        r = getattr(self, "_result", None)
+        if r is not None and obj.FemMesh.NodeCount != len(r.nodes):
+            return None  # FemMesh was replaced by other means
+        return r
+
+    def mesh_arrays(self, obj):
+        """The mesh as arrays, from the last result or else from FemMesh (slower): a MeshArrays with
+        nodes (N, 3) float64, triangles (M, 3) and quads (K, 4) int32 0-based corner indices,
+        triangle_face (M,) / quad_face (K,) 1-based CAD faces (0: unknown), element_ids (M+K,) the
+        FemMesh ids of triangles then quads."""
+        r = self.last_result(obj)
+        if r is not None:
+            m, k = len(r.triangles), len(r.quads)
+            return MeshArrays(r.nodes, r.triangles, r.quads, r.triangle_face, r.quad_face,
+                              np.arange(1, m + k + 1, dtype=np.int64), np.arange(1, len(r.nodes) + 1))
+        return femmesh_arrays(obj.FemMesh)
+
+    def export(self, obj, path):
+        """Writes the mesh to path; the format comes from the extension. .msh (Gmsh 4.1), .vtu,
+        .stl and .inp are written by the core from the last result (re-meshing with the object's
+        parameters first when the document was reopened: the mesher is deterministic); other
+        extensions FreeCAD's FemMesh writes (.unv, .med, .vtk, .z88, .dat) come from FemMesh."""
+        path = os.fspath(path)
+        ext = os.path.splitext(path)[1].lower()
+        if ext in (".msh", ".vtu", ".stl", ".inp"):
+            r = self.last_result(obj)
+            if r is None:
+                from ...core.api import MeshJob
+                r = MeshJob(obj.Part.Shape, self.params(obj)).run()
+                self.apply_result(obj, r)
+            r.write(path)
+        elif ext in (".unv", ".med", ".vtk", ".z88", ".dat"):
+            obj.FemMesh.write(path)
+        else:
+            raise ValueError(f"cannot export {os.path.basename(path)}: use .msh, .vtu, .stl, .inp, .unv, .med, .vtk")
+        return path
+
+    def update_mesh_feature(self, obj):
+        """Creates or refreshes the Mesh::Feature of this mesh (sets CreateMeshFeature) and returns it."""
+        obj.CreateMeshFeature = True
+        r = self.last_result(obj)
+        if r is None:
+            r = self.mesh_arrays(obj)
+        from ..to_femmesh import result_to_mesh
+        mf = obj.MeshFeature
+        if mf is None:
+            mf = obj.Document.addObject("Mesh::Feature", obj.Name + "_Mesh")
+            mf.Label = obj.Label + " (triangles)"
+            obj.MeshFeature = mf
+        mf.Mesh = result_to_mesh(r)
+        return mf
+
+
+class MeshArrays:
+    """Plain mesh arrays (the attributes result_to_mesh and the quality view read); element_ids and
+    node_ids are the FemMesh ids of the elements (triangles then quads) and of the nodes."""
+
+    def __init__(self, nodes, triangles, quads, triangle_face, quad_face, element_ids, node_ids=None):
+        self.nodes = np.asarray(nodes, dtype=np.float64).reshape(-1, 3)
+        self.triangles = np.asarray(triangles, dtype=np.int32).reshape(-1, 3)
+        self.quads = np.asarray(quads, dtype=np.int32).reshape(-1, 4)
+        self.triangle_face = np.asarray(triangle_face, dtype=np.int32)
+        self.quad_face = np.asarray(quad_face, dtype=np.int32)
+        self.element_ids = np.asarray(element_ids, dtype=np.int64)
+        self.node_ids = (np.arange(1, len(self.nodes) + 1) if node_ids is None
+                         else np.asarray(node_ids, dtype=np.int64))  #: FemMesh node id per row of nodes
+
+
+def femmesh_arrays(fm):
+    """MeshArrays of the face elements of a Fem.FemMesh (corner nodes only; CAD faces from the
+    'Face<i>' groups)."""
+    all_nodes = fm.Nodes if fm.NodeCount else {}  # FemMesh builds this dict on each access: read it once
+    node_ids = sorted(all_nodes)
+    index = {nid: i for i, nid in enumerate(node_ids)}
+    nodes = np.array([tuple(all_nodes[n]) for n in node_ids], dtype=np.float64).reshape(-1, 3)
+    face_of = {}
+    for g in fm.Groups:
+        name = fm.getGroupName(g)
+        if name.startswith("Face") and name[4:].isdigit() and fm.getGroupElementType(g) == "Face":
+            for e in fm.getGroupElements(g):
+                face_of[e] = int(name[4:])
+    tris, quads, tf, qf, tid, qid = [], [], [], [], [], []
+    for e in fm.Faces:
+        n = fm.getElementNodes(e)
+        if len(n) in (3, 6):
+            tris.append([index[i] for i in n[:3]])
+            tf.append(face_of.get(e, 0))
+            tid.append(e)
+        elif len(n) in (4, 8):
+            quads.append([index[i] for i in n[:4]])
+            qf.append(face_of.get(e, 0))
+            qid.append(e)
+    return MeshArrays(nodes, tris, quads, tf, qf, tid + qid, node_ids)

@@ -1,0 +1,149 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Runs a surface mesh's meshing job off the GUI thread.
+
+MeshRunner has four steps: prepare(obj) on the GUI thread (reads the object's parameters and its
+Part shape, which must not be touched from another thread), start() runs MeshJob.run in a worker
+thread (the C++ core releases the GIL, so the GUI keeps painting), cancel() from any thread, and
+collect() returns the MeshResult on the GUI thread, where SurfaceMesh.apply_result stores it.
+MeshRunner itself has no Qt dependency, so it can be driven headless; QtMeshRunner adds a Qt
+signal emitted when the worker ends.
+"""
+import threading
+import time
+
+from ..core.api import MeshJob, Cancelled
+
+
+class RunError(Exception):
+    """A run that could not be prepared or failed; the message is meant for the user."""
+
+
+class MeshRunner:
+    """One meshing run of a ParaMesh surface mesh object. States: idle, running, done, failed,
+    cancelled."""
+
+    def __init__(self):
+        self.state = "idle"
+        self.job = None
+        self.result = None
+        self.error = ""
+        self.fraction = 0.0
+        self.stage = ""
+        self.t_start = self.t_end = self.t_cancel = None
+        self._messages = []
+        self._lock = threading.Lock()
+        self._thread = None
+        self._cancel = False
+        self.on_done = None  # called from the worker thread when it ends
+
+    # -- GUI thread ---------------------------------------------------------------------------------
+    def prepare(self, obj):
+        """Reads parameters and shape of obj; raises RunError with a readable message."""
+        part = getattr(obj, "Part", None)
+        if part is None or not hasattr(part, "Shape"):
+            raise RunError(f"{obj.Label}: no Part to mesh (set its Part property)")
+        try:
+            params = obj.Proxy.params(obj)
+            self.job = MeshJob(part.Shape, params)
+        except Exception as e:  # ParameterError, InputError, ValueError, TypeError: all user errors
+            raise RunError(str(e)) from e
+        self.state = "prepared"
+        return self
+
+    def start(self):
+        if self.job is None:
+            raise RunError("prepare() was not called")
+        self.state = "running"
+        self.t_start = time.perf_counter()
+        self._thread = threading.Thread(target=self._work, name="ParaMeshWorker", daemon=True)
+        self._thread.start()
+
+    def collect(self):
+        """The MeshResult of a finished run (state 'done'), else None."""
+        return self.result if self.state == "done" else None
+
+    def wait(self, timeout=None):
+        if self._thread is not None:
+            self._thread.join(timeout)
+        return not self.running
+
+    # -- any thread ---------------------------------------------------------------------------------
+    @property
+    def running(self):
+        return self.state == "running"
+
+    @property
+    def elapsed(self):
+        if self.t_start is None:
+            return 0.0
+        return (self.t_end or time.perf_counter()) - self.t_start
+
+    def cancel(self):
+        """Asks the core to stop; the worker ends with state 'cancelled' (the core polls per face
+        and inside long loops)."""
+        if self.state != "running":
+            return
+        self._cancel = True
+        self.t_cancel = time.perf_counter()
+        if self.job is not None:
+            self.job.cancel()
+
+    def take_messages(self):
+        """Log lines (level, text) received since the last call."""
+        with self._lock:
+            out, self._messages = self._messages, []
+        return out
+
+    # -- worker thread ------------------------------------------------------------------------------
+    def _progress(self, fraction, stage):
+        self.fraction, self.stage = float(fraction), str(stage)
+        return not self._cancel
+
+    def _log(self, *args):
+        level, text = (args[0], args[1]) if len(args) >= 2 else (1, args[0] if args else "")
+        with self._lock:
+            self._messages.append((int(level) if isinstance(level, int) else 1, str(text)))
+
+    def _work(self):
+        try:
+            self.result = self.job.run(progress=self._progress, log=self._log)
+            state = "cancelled" if self._cancel else "done"
+        except Cancelled:
+            state = "cancelled"
+        except Exception as e:  # reported in the panel, never as a traceback dialog
+            self.error = f"{type(e).__name__}: {e}" if not str(e) else str(e)
+            state = "cancelled" if self._cancel else "failed"
+        self.t_end = time.perf_counter()
+        self.state = state
+        if state != "done":
+            self.result = None
+        cb = self.on_done
+        if cb is not None:
+            cb()
+
+
+def _qt_runner_class():
+    from PySide import QtCore
+
+    class QtMeshRunner(QtCore.QObject):
+        """MeshRunner whose end is signalled to the GUI thread (queued signal)."""
+
+        finished = QtCore.Signal()
+
+        def __init__(self, parent=None):
+            super().__init__(parent)
+            self.runner = MeshRunner()
+            self.runner.on_done = self.finished.emit
+
+    return QtMeshRunner
+
+
+_cls = None
+
+
+def QtMeshRunner(parent=None):
+    """A QObject with .runner (MeshRunner) and a .finished signal delivered on the GUI thread."""
+    global _cls
+    if _cls is None:
+        _cls = _qt_runner_class()
+    return _cls(parent)

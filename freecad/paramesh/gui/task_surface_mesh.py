@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Task panel of a ParaMesh surface mesh: the meshing parameters (with units and the property
+tooltips), the boundary layers and local sizes it uses, and the run box."""
+import FreeCADGui
+from PySide import QtGui
+
+from .task_base import MeshTaskPanel, remove_objects
+from .widgets import Field, ParamForm
+
+
+def surface_mesh_fields():
+    return [
+        Field("Size", "Size", "length", step=1.0),
+        Field("MinSize", "Minimum size", "length", step=0.1),
+        Field("MaxSize", "Maximum size", "length", step=1.0),
+        Field("CurvatureAngle", "Curvature angle", "angle", maximum=179.9, step=1.0),
+        Field("MaxDeviation", "Max deviation (× size)", "float", maximum=1.0, step=0.01, special="off"),
+        Field("Grading", "Grading", "float", minimum=1.01, maximum=10.0, step=0.05, decimals=2),
+        Field("ElementOrder", "Element order", "enum", items=["1st", "2nd"]),
+        Field("Quads", "Quad-dominant", "bool"),
+        Field("Threads", "Threads", "int", maximum=1024, special="all cores"),
+        Field("OptimizePasses", "Optimisation passes", "int", maximum=100),
+        Field("CreateMeshFeature", "Also make a Mesh feature", "bool"),
+    ]
+
+
+class TaskSurfaceMesh(MeshTaskPanel):
+    """Edits and meshes a ParaMesh surface mesh."""
+
+    def __init__(self, mesh_obj, created=False):
+        super().__init__(mesh_obj, mesh_obj, created)
+
+    def build_forms(self):
+        m = self.mesh
+        self.params = ParamForm(m, surface_mesh_fields(), f"ParaMesh surface mesh — {m.Label}")
+        icon = QtGui.QIcon(_icon("ParaMesh_SurfaceMesh"))
+        self.params.setWindowIcon(icon)
+        part = QtGui.QLabel(f"<b>{m.Part.Label}</b> ({len(m.Part.Shape.Faces)} faces)" if m.Part else
+                            "<span style='color:#c00000'>no Part</span>")
+        part.setToolTip(m.getDocumentationOfProperty("Part"))
+        self.params.layout_.insertRow(0, "Part", part)
+        self.children = QtGui.QLabel()
+        self.children.setWordWrap(True)
+        self.params.layout_.addRow("Children", self.children)
+        self.update_children()
+        return [self.params]
+
+    def update_children(self):
+        m = self.mesh
+        items = [f"{c.Label} ({', '.join(s for _o, subs in c.References for s in subs) or 'auto'})"
+                 for c in list(m.BoundaryLayerList) + list(m.LocalSizeList)]
+        self.children.setText("<br>".join(items) if items else
+                              "none — add boundary layers and local sizes with the toolbar commands")
+
+    def write_values(self):
+        return bool(self.params.write())
+
+    def on_close(self):
+        self.restore_view()
+
+    def discard(self):
+        m = self.mesh
+        remove_objects(list(m.BoundaryLayerList) + list(m.LocalSizeList) + [m.MeshFeature, m])
+
+
+def _icon(name):
+    from .. import resource_path
+    return resource_path("icons", name + ".svg")
+
+
+def open_panel(mesh_obj, created=False):
+    panel = TaskSurfaceMesh(mesh_obj, created)
+    FreeCADGui.Control.showDialog(panel)
+    return panel
