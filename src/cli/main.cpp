@@ -170,7 +170,10 @@ int cmdMesh(int argc, char** argv) {
   }
   if (haveBl) {
     if (bl.edges.empty() && !bl.autoEdges) die(1, "--bl-* options need --bl-edges or --bl-auto");
-    if (bl.layers == 0 && bl.thickness == 0) bl.layers = 20;
+    if (bl.layers == 0 && bl.thickness == 0) {
+      if (!bl.autoEdges) die(1, "--bl-* options need --bl-layers or --bl-thickness");
+      bl.layers = 20;  // --bl-auto alone: 20 rows, the last one about the surface size
+    }
     p.boundaryLayers.push_back(bl);
   }
   if (model.empty()) die(1, "mesh: missing MODEL");

@@ -26,6 +26,7 @@ LayerLaw LayerLaw::from(const BoundaryLayerSpec& s) {
   l.h0 = s.firstHeight;
   l.r = s.growth;
   l.maxAspect = s.maxAspect;
+  l.quads = s.quads;
   if (s.layers > 0) {
     l.layers = s.layers;
   } else {
@@ -158,6 +159,7 @@ class FaceLayers {
   FaceLayers(const ISurface& s, const std::vector<std::vector<LoopPoint>>& loops, const DomainGuard& guard,
              const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws, FaceBLResult& out)
       : S_(s), loops_(loops), guard_(guard), specOf_(specOf), laws_(laws), out_(out) {
+    for (const LayerLaw& l : laws) specQuads_.push_back(l.quads);
     out_.stats.assign(laws.size(), FaceBLResult::SpecStats());
     const UVBox b = s.bounds();
     uspan_ = std::max(b.u1 - b.u0, 1e-300);
@@ -176,6 +178,7 @@ class FaceLayers {
   const std::vector<LayerLaw>& laws_;
   FaceBLResult& out_;
   double uspan_, vspan_;
+  std::vector<char> specQuads_;
   std::vector<Vec3> otherPts_;  ///< points of already grown runs (collision tests)
   std::vector<double> otherH_;
 
@@ -611,10 +614,59 @@ class FaceLayers {
     return -(int)out_.nodes.size();
   }
 
+  /// The front polyline (column tops, stairs between different heights) as (column, layer) pairs.
+  static std::vector<std::pair<int, int>> frontPath(const std::vector<Column>& cols, bool closed) {
+    std::vector<std::pair<int, int>> path;
+    const int m = (int)cols.size();
+    for (int i = 0; i < m; ++i) {
+      const int ka = (int)cols[i].xyz.size() - 1;
+      path.emplace_back(i, ka);
+      if (!closed && i == m - 1) break;
+      const int j = (i + 1) % m;
+      const int kb = (int)cols[j].xyz.size() - 1;
+      for (int k = ka - 1; k >= kb; --k) path.emplace_back(i, k);
+      for (int k = std::min(ka, kb); k < kb; ++k) path.emplace_back(j, k);
+    }
+    return path;
+  }
+
+  /// Safety net: while the front crosses itself (columns converging in a concave corner), the
+  /// tallest marched column involved loses its top layer.
+  void untangle(std::vector<Column>& cols, bool closed) {
+    for (int guard = 0; guard < 2000; ++guard) {
+      const auto path = frontPath(cols, closed);
+      const int n = (int)path.size();
+      auto uvOf = [&](int q) { return cols[path[q].first].uv[path[q].second]; };
+      int bad = -1;
+      for (int i = 0; i + 1 < n && bad < 0; ++i)
+        for (int j = i + 2; j + 1 < n; ++j) {
+          if (segmentsCross(uvOf(i), uvOf(i + 1), uvOf(j), uvOf(j + 1))) {
+            // the marched column among the four points with the most layers
+            int best = -1;
+            for (int q : {i, i + 1, j, j + 1}) {
+              const Column& c = cols[path[q].first];
+              if (c.fixed || c.xyz.size() < 2) continue;
+              if (best < 0 || c.xyz.size() > cols[best].xyz.size()) best = path[q].first;
+            }
+            bad = best >= 0 ? best : -2;
+            break;
+          }
+        }
+      if (bad == -1) return;
+      if (bad < 0) return;  // only fixed columns involved: nothing to trim
+      Column& c = cols[bad];
+      c.uv.pop_back();
+      c.xyz.pop_back();
+      c.ref.pop_back();
+      c.stop = 2;
+    }
+  }
+
   void emit(int L, int a, int nseg, bool closed, std::vector<Column>& cols) {
     const auto& lp = loops_[L];
     const int n = (int)lp.size();
     const int m = (int)cols.size();
+    untangle(cols, closed);
     // node refs for marched points
     for (auto& c : cols)
       for (size_t k = 1; k < c.xyz.size(); ++k)
@@ -644,10 +696,11 @@ class FaceLayers {
       for (int k = 0; k < kmax; ++k) {
         if (A.root == B.root && k == 0) {
           // fan: triangle root, B1, A1 (orientation fixed below)
-          addTri(A.ref[0], A.uv[0], B.ref[1], B.uv[1], A.ref[1], A.uv[1]);
+          addTri(A.spec, A.ref[0], A.uv[0], B.ref[1], B.uv[1], A.ref[1], A.uv[1]);
           continue;
         }
-        addQuad(A.ref[k], A.uv[k], B.ref[k], B.uv[k], B.ref[k + 1], B.uv[k + 1], A.ref[k + 1], A.uv[k + 1]);
+        addQuad(A.spec, {A.ref[k], B.ref[k], B.ref[k + 1], A.ref[k + 1]}, {A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1]},
+                {A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]});
       }
     }
     // the front: tops of the columns with stairs between different heights
@@ -699,17 +752,28 @@ class FaceLayers {
     replaces_.push_back(std::move(rp));
   }
 
-  void addQuad(int r0, Vec2 u0, int r1, Vec2 u1, int r2, Vec2 u2, int r3, Vec2 u3) {
-    std::array<int, 4> q{r0, r1, r2, r3};
-    std::array<Vec2, 4> u{u0, u1, u2, u3};
-    if (area2(u0, u1, u2) + area2(u0, u2, u3) < 0) {
+  void addQuad(int spec, std::array<int, 4> q, std::array<Vec2, 4> u, std::array<Vec3, 4> x) {
+    if (area2(u[0], u[1], u[2]) + area2(u[0], u[2], u[3]) < 0) {
       std::swap(q[1], q[3]);
       std::swap(u[1], u[3]);
+      std::swap(x[1], x[3]);
+    }
+    if (!specQuads_[spec]) {
+      // two triangles along the shorter diagonal
+      if (dist(x[0], x[2]) <= dist(x[1], x[3])) {
+        addTri(spec, q[0], u[0], q[1], u[1], q[2], u[2]);
+        addTri(spec, q[0], u[0], q[2], u[2], q[3], u[3]);
+      } else {
+        addTri(spec, q[1], u[1], q[2], u[2], q[3], u[3]);
+        addTri(spec, q[1], u[1], q[3], u[3], q[0], u[0]);
+      }
+      return;
     }
     out_.quads.push_back(q);
     out_.quadUv.push_back(u);
+    ++out_.stats[spec].elements;
   }
-  void addTri(int r0, Vec2 u0, int r1, Vec2 u1, int r2, Vec2 u2) {
+  void addTri(int spec, int r0, Vec2 u0, int r1, Vec2 u1, int r2, Vec2 u2) {
     std::array<int, 3> t{r0, r1, r2};
     std::array<Vec2, 3> u{u0, u1, u2};
     if (area2(u0, u1, u2) < 0) {
@@ -718,6 +782,7 @@ class FaceLayers {
     }
     out_.tris.push_back(t);
     out_.triUv.push_back(u);
+    ++out_.stats[spec].elements;
   }
 
  public:

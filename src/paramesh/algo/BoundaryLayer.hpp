@@ -33,6 +33,7 @@ struct LayerLaw {
   double h0 = 0, r = 1;
   int layers = 0;
   double maxAspect = 0;  ///< stop when spacing / h_k falls below this (0: off)
+  bool quads = true;     ///< quads, or each quad split into two triangles
   double height(int k) const;
   /// Sum of the first k heights (distance of row k from the edge).
   double offset(int k) const;
@@ -69,6 +70,7 @@ struct FaceBLResult {
     int columns = 0, fullColumns = 0, minLayers = 1 << 30, maxLayers = 0;
     int stopBoundary = 0, stopCollision = 0, stopInvalid = 0, stopAspect = 0, stopEnd = 0;
     int fans = 0, merges = 0;
+    int elements = 0;  ///< quads (or triangles) of the layers
   };
   std::vector<SpecStats> stats;
   std::vector<std::string> warnings;

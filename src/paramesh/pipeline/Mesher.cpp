@@ -566,6 +566,7 @@ struct Mesher::Impl {
         a.stopEnd += b.stopEnd;
         a.fans += b.fans;
         a.merges += b.merges;
+        a.elements += b.elements;
       }
     }
     FaceBoundary inner;
@@ -766,6 +767,7 @@ struct Mesher::Impl {
       b.stopEdgeEnd = st.stopEnd;
       b.fans = st.fans;
       b.merges = st.merges;
+      b.elements = st.elements;
       report.boundaryLayers.push_back(b);
     }
     stage("quality", tq.seconds());
