@@ -36,7 +36,6 @@ const char* kUsage =
     "  --grading G           max size ratio between neighbouring elements (default 1.3)\n"
     "  --threads N           worker threads (0: all cores; default 1)\n"
     "  --optimize N          optimisation passes (default 4)\n"
-    "  --order 1|2           element order; 2 puts mid-edge nodes on the CAD (default 1)\n"
     "  --report FILE.json    write the run report\n"
     "  --bl-edges E1,E2,...  grow a surface boundary layer from these CAD edges (1-based)\n"
     "  --bl-first-height H0  height of its first row\n"
@@ -48,6 +47,10 @@ const char* kUsage =
     "  --bl-auto             grow from the automatically detected leading edges (listed in the\n"
     "                        report); without --bl-first-height the last row is about --size\n"
     "  --params FILE.json    parameters (and several boundary-layer specs) from a JSON file\n"
+    "  --local-size FaceN=H  local size near a face, edge (EdgeN=H) or vertex (VertexN=H); repeatable\n"
+    "  --proximity N         at least N elements across thin walls and narrow faces (0: off)\n"
+    "  --quads               quad-dominant surface mesh (triangles paired into quads)\n"
+    "  --order 1|2           element order; 2 puts mid-edge nodes on the CAD (default 1)\n"
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
     "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
@@ -145,6 +148,15 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--bl-auto") { bl.autoEdges = true; haveBl = true; }
     else if (a == "--bl-triangles") { bl.quads = false; }
     else if (a == "--params") paramsFile = next();
+    else if (a == "--local-size") {
+      // FaceN=size, EdgeN=size or VertexN=size (repeatable)
+      try {
+        applyParamsJson(std::string("{\"local_sizes\": [\"") + next() + "\"]}", p);
+      } catch (const Error& e) {
+        die(1, std::string("--local-size: ") + e.what());
+      }
+    } else if (a == "--proximity") p.proximity = parseInt(a, next());
+    else if (a == "--quads") p.quads = true;
     else if (a == "--report") report = next();
     else if (a == "--png") png = next();
     else if (a == "--view") {

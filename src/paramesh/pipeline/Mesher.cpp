@@ -16,6 +16,7 @@
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
+#include "paramesh/size/Proximity.hpp"
 #include "paramesh/size/SizeField.hpp"
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
@@ -167,6 +168,25 @@ struct Mesher::Impl {
       for (auto& s : v) field.addSource(s.p, std::max(s.h, p.minSize));
     field.build();
     stage("size_field", tm.seconds());
+  }
+
+  // ---------------------------------------------------------------- proximity
+  void addProximitySources() {
+    Timer tm;
+    // a first surface mesh with the sizes so far tells where walls and faces are thin
+    MeshParams q = p;
+    q.proximity = 0;
+    q.order = 1;
+    q.quads = false;
+    q.optimizePasses = 1;
+    q.boundaryLayers.clear();
+    Mesher first(model, q, {}, [this](double, const std::string&) { return !progress.isCancelled(); });
+    MeshOutput coarse = first.run();
+    const auto src = proximitySources(coarse.mesh, p.proximity, std::min(p.size, p.maxSize), p.minSize);
+    for (const auto& s : src) field.addSource(s.p, s.h);
+    field.build();
+    log.info("proximity: " + std::to_string(src.size()) + " size sources from thin walls and narrow faces");
+    stage("proximity", tm.seconds());
   }
 
   // ---------------------------------------------------------------- boundary layers (1D part)
@@ -788,6 +808,7 @@ MeshOutput Mesher::run() {
   d.findCoincidentTopology();
   d.progress.report(0.0, "size field");
   d.buildSizeField();
+  if (d.p.proximity > 0) d.addProximitySources();
   d.planBoundaryLayers();
   d.progress.report(0.05, "edges");
   {

@@ -35,6 +35,8 @@ void MeshParams::validate() const {
   if (!finite(grading) || grading <= 1.0 || grading > 10)
     throw ParameterError("grading must be in (1, 10] (got " + num(grading) + ")");
   if (threads < 0 || threads > 1024) throw ParameterError("threads must be in [0, 1024] (got " + std::to_string(threads) + ")");
+  if (proximity < 0 || proximity > 100)
+    throw ParameterError("proximity must be in [0, 100] elements (got " + std::to_string(proximity) + ")");
   if (order != 1 && order != 2) throw ParameterError("order must be 1 or 2 (got " + std::to_string(order) + ")");
   if (optimizePasses < 0 || optimizePasses > 100)
     throw ParameterError("optimize_passes must be in [0, 100] (got " + std::to_string(optimizePasses) + ")");
