@@ -8,6 +8,7 @@
 
 #include "paramesh/algo/Optimizer.hpp"
 #include "paramesh/algo/Predicates.hpp"
+#include "paramesh/algo/Recombine.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/algo/Triangulation.hpp"
 #include "paramesh/util/Error.hpp"
@@ -349,8 +350,19 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         ref[v] = -(opt.localNodeOffset + (int)res.newXyz.size());
       }
     }
-    for (const Triangle& tr : T.tris) {
-      if (tr.dead) continue;
+    std::vector<char> paired(T.tris.size(), 0);
+    if (opt.quads) {
+      for (const QuadPair& qp : recombine(T, 150.0)) {
+        paired[qp.t] = paired[qp.u] = 1;
+        std::array<int, 4> r{ref[qp.quad[0]], ref[qp.quad[1]], ref[qp.quad[2]], ref[qp.quad[3]]};
+        res.quads.push_back(r);
+        res.quadUv.push_back({C.toParam(T.verts[qp.quad[0]].uv), C.toParam(T.verts[qp.quad[1]].uv),
+                              C.toParam(T.verts[qp.quad[2]].uv), C.toParam(T.verts[qp.quad[3]].uv)});
+      }
+    }
+    for (size_t ti = 0; ti < T.tris.size(); ++ti) {
+      const Triangle& tr = T.tris[ti];
+      if (tr.dead || paired[ti]) continue;
       std::array<int, 3> r{ref[tr.v[0]], ref[tr.v[1]], ref[tr.v[2]]};
       if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
         ++res.degenerateDropped;
@@ -359,7 +371,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       res.tris.push_back(r);
       res.triUv.push_back({C.toParam(T.verts[tr.v[0]].uv), C.toParam(T.verts[tr.v[1]].uv), C.toParam(T.verts[tr.v[2]].uv)});
     }
-    if (res.tris.empty()) {
+    if (res.tris.empty() && res.quads.empty()) {
       res.error = "no triangle was produced";
       return res;
     }

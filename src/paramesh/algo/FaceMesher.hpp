@@ -40,6 +40,7 @@ struct FaceMeshOptions {
   long maxPoints = 50000000;    ///< hard cap on inserted points (guards against runaway refinement)
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
   int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
+  bool quads = false;           ///< pair triangles into quads (quad-dominant)
   const SizeField* overlay = nullptr;  ///< extra face-local sizes (boundary-layer hand-off); min with the field
 };
 

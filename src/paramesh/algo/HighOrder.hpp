@@ -20,16 +20,19 @@ struct HighOrderStats {
   double minJacobianRatio = 1;  ///< min over elements of (min scaled Jacobian) after the fix
 };
 
-/// Makes m second order. triUv: (u,v) of each triangle's corners on its face; segT: edge
-/// parameters of each segment's ends. Quads are handled like pairs of triangles (their corner
-/// (u,v) come from the face by projection).
+/// Makes m second order. triUv / quadUv: (u,v) of each element's corners on its face; segT: edge
+/// parameters of each segment's ends.
 HighOrderStats makeSecondOrder(SurfaceMesh& m, const IGeometryModel& g,
                                const std::vector<std::array<Vec2, 3>>& triUv,
+                               const std::vector<std::array<Vec2, 4>>& quadUv,
                                const std::vector<std::array<double, 2>>& segT);
 
 /// Scaled Jacobian of a 6-node triangle (corners a,b,c, mids ab,bc,ca) at its corners, mid-edges and
 /// centroid, measured against normal n: min over samples of (J . n) / |straight J|. 1 for a straight
 /// triangle, <= 0 when the curved element folds.
 double tri6MinScaledJacobian(const Vec3 x[6], Vec3 n);
+/// The same for an 8-node quad (corners a,b,c,d, mids ab,bc,cd,da), at corners, mid-edges and centre,
+/// against the Jacobian of the straight quad at its centre.
+double quad8MinScaledJacobian(const Vec3 x[8], Vec3 n);
 
 }  // namespace paramesh

@@ -65,6 +65,7 @@ struct Mesher::Impl {
   std::vector<int> vertexNode;
   Coincidence same;  ///< coincident vertices/edges of unsewn faces
   std::vector<std::array<Vec2, 3>> triUv;         ///< per output triangle: (u,v) of its corners on its face
+  std::vector<std::array<Vec2, 4>> quadUv;        ///< per output quad: (u,v) of its corners on its face
   std::vector<std::array<double, 2>> segmentT;    ///< per output segment: edge parameters of its ends
   // boundary layers
   EdgeSpecMap blSpecOf;                 ///< BL spec of each edge (-1: none)
@@ -106,7 +107,6 @@ struct Mesher::Impl {
     for (size_t i = 0; i < p.boundaryLayers.size(); ++i)
       for (int e : p.boundaryLayers[i].edges)
         checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
-    if (p.quads) throw ParameterError("quad-dominant meshing (quads) is not available yet");
     threads = resolveThreads(p.threads);
     report.size = p.size;
     report.minSize = p.minSize;
@@ -627,8 +627,8 @@ struct Mesher::Impl {
     uv.insert(uv.end(), r.newUv.begin(), r.newUv.end());
     r.newXyz = std::move(xyz);
     r.newUv = std::move(uv);
-    r.quads = bl.quads;
-    r.quadUv = bl.quadUv;
+    r.quads.insert(r.quads.end(), bl.quads.begin(), bl.quads.end());
+    r.quadUv.insert(r.quadUv.end(), bl.quadUv.begin(), bl.quadUv.end());
     for (size_t k = 0; k < bl.tris.size(); ++k) {
       r.tris.push_back(bl.tris[k]);
       r.triUv.push_back(bl.triUv[k]);
@@ -658,6 +658,7 @@ struct Mesher::Impl {
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight[a] > weight[b]; });
     FaceMeshOptions fo;
     fo.optimizePasses = p.optimizePasses;
+    fo.quads = p.quads;
     fo.maxDeviation = p.maxDeviation * p.size;
     parallelFor(nf, threads, [&](int f) {
       progress.poll();
@@ -723,11 +724,16 @@ struct Mesher::Impl {
       }
       for (size_t k = 0; k < r.quads.size(); ++k) {
         auto q = r.quads[k];
+        auto uv = r.quadUv[k];
         for (int& v : q)
           if (v < 0) v = base + (-v - 1);
-        if (rev) std::swap(q[1], q[3]);
+        if (rev) {
+          std::swap(q[1], q[3]);
+          std::swap(uv[1], uv[3]);
+        }
         mesh.quads.push_back(q);
         mesh.quadFace.push_back(f + 1);
+        quadUv.push_back(uv);
       }
       fr.triangles = (int)r.tris.size();
       fr.quads = (int)r.quads.size();
@@ -738,7 +744,7 @@ struct Mesher::Impl {
 
   void secondOrder() {
     Timer tm;
-    const HighOrderStats st = makeSecondOrder(mesh, model, triUv, segmentT);
+    const HighOrderStats st = makeSecondOrder(mesh, model, triUv, quadUv, segmentT);
     report.midNodes = st.midNodes;
     report.straightenedMidNodes = st.straightened;
     report.minScaledJacobian = st.minJacobianRatio;
@@ -833,7 +839,7 @@ MeshOutput Mesher::run() {
 QualitySummary summarizeQuality(const SurfaceMesh& m, const std::function<double(Vec3)>& h) {
   QualitySummary q;
   const size_t nt = m.triangles.size();
-  if (nt == 0) return q;
+  if (nt == 0 && m.quads.empty()) return q;
   double gsum = 0, gmin = 1e300, amin = 1e300, amax = 0;
   size_t below30 = 0;
   for (const auto& t : m.triangles) {
@@ -854,11 +860,13 @@ QualitySummary summarizeQuality(const SurfaceMesh& m, const std::function<double
     amax = std::max(amax, mx);
     if (mn < 30) ++below30;
   }
-  q.gammaMean = gsum / nt;
-  q.gammaMin = gmin;
-  q.angleMin = amin;
-  q.angleMax = amax;
-  q.pctAngleBelow30 = 100.0 * below30 / nt;
+  if (nt > 0) {
+    q.gammaMean = gsum / nt;
+    q.gammaMin = gmin;
+    q.angleMin = amin;
+    q.angleMax = amax;
+    q.pctAngleBelow30 = 100.0 * below30 / nt;
+  }
   // unique edges
   std::vector<std::pair<int, int>> E;
   E.reserve(nt * 3);
@@ -884,6 +892,29 @@ QualitySummary summarizeQuality(const SurfaceMesh& m, const std::function<double
   }
   q.pctLenInSqrt2 = E.empty() ? 0 : 100.0 * ok / E.size();
   q.lenRatioMean = E.empty() ? 0 : rsum / E.size();
+  // quads
+  double areaT = 0, areaQ = 0, aspSum = 0;
+  for (const auto& t : m.triangles) areaT += 0.5 * norm(cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]));
+  for (const auto& Q : m.quads) {
+    const Vec3 P[4] = {m.nodes[Q[0]], m.nodes[Q[1]], m.nodes[Q[2]], m.nodes[Q[3]]};
+    const Vec3 n1 = cross(P[1] - P[0], P[2] - P[0]), n2 = cross(P[2] - P[0], P[3] - P[0]);
+    areaQ += 0.5 * (norm(n1) + norm(n2));
+    double lmin = 1e300, lmax = 0;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 u = P[(k + 3) % 4] - P[k], v = P[(k + 1) % 4] - P[k];
+      const double c = dot(u, v) / std::max(norm(u) * norm(v), 1e-300);
+      q.quadAngleMax = std::max(q.quadAngleMax, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi);
+      lmin = std::min(lmin, norm(v));
+      lmax = std::max(lmax, norm(v));
+    }
+    const double asp = lmin > 0 ? lmax / lmin : 1e300;
+    aspSum += asp;
+    q.quadAspectMax = std::max(q.quadAspectMax, asp);
+    const double cw = dot(n1, n2) / std::max(norm(n1) * norm(n2), 1e-300);
+    q.quadWarpMax = std::max(q.quadWarpMax, std::acos(std::clamp(cw, -1.0, 1.0)) * 180.0 / kPi);
+  }
+  if (!m.quads.empty()) q.quadAspectMean = aspSum / m.quads.size();
+  q.pctAreaInQuads = areaT + areaQ > 0 ? 100.0 * areaQ / (areaT + areaQ) : 0;
   return q;
 }
 

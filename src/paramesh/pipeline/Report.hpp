@@ -30,6 +30,11 @@ struct QualitySummary {
   double pctLenInSqrt2 = 0;                 ///< % of edges with length / h in [1/sqrt2, sqrt2]
   double lenRatioMean = 0;                  ///< mean of length / h
   int invertedTriangles = 0;                ///< triangles facing against the surface normal
+  // quads (quad-dominant meshes and boundary layers)
+  double quadAngleMax = 0;                  ///< largest corner angle, degrees
+  double quadAspectMean = 0, quadAspectMax = 0;  ///< longest / shortest side
+  double quadWarpMax = 0;                   ///< largest angle between the normals of the two halves, degrees
+  double pctAreaInQuads = 0;
 };
 
 /// Per boundary-layer specification: what was grown and why columns stopped.

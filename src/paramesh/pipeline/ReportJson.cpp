@@ -47,6 +47,13 @@ Json reportToJson(const Report& r) {
   q["pct_angle_lt_30"] = r.quality.pctAngleBelow30;
   q["pct_len_in_sqrt2"] = r.quality.pctLenInSqrt2;
   q["len_ratio_mean"] = r.quality.lenRatioMean;
+  if (r.quads > 0) {
+    q["quad_angle_max"] = r.quality.quadAngleMax;
+    q["quad_aspect_mean"] = r.quality.quadAspectMean;
+    q["quad_aspect_max"] = r.quality.quadAspectMax;
+    q["quad_warp_max"] = r.quality.quadWarpMax;
+    q["pct_area_in_quads"] = r.quality.pctAreaInQuads;
+  }
   Json& faces = j["faces"];
   faces = Json::array();
   for (const FaceReport& f : r.faces) {
