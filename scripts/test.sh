@@ -7,4 +7,6 @@ bash scripts/build.sh
 (cd build && ctest --output-on-failure -j"$(nproc)")
 # Python API (no FreeCAD) and FreeCAD App bridge (no GUI), with Debian's interpreter
 /usr/bin/python3 -m pytest -q tests/python tests/freecad
+# The workbench in a real FreeCAD window under Xvfb (screenshots and summary in out/gui)
+bash tests/gui/run.sh
 echo "all tests passed"

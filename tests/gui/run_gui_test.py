@@ -8,6 +8,7 @@ measures the event-loop latency while a ~1 million triangle mesh is computed. Sc
 $PARAMESH_GUI_OUT (default out/gui). Writes summary.txt / summary.json there and quits FreeCAD with
 status 0 (all checks passed) or 1.
 """
+import faulthandler
 import json
 import os
 import sys
@@ -28,6 +29,8 @@ os.makedirs(OUT, exist_ok=True)
 
 _T0 = time.perf_counter()
 _log_file = open(os.path.join(OUT, "gui_test.log"), "w")
+_fault_file = open(os.path.join(OUT, "faulthandler.log"), "w")
+faulthandler.enable(_fault_file, all_threads=True)
 CHECKS = []
 METRICS = {}
 SHOTS = []
@@ -190,6 +193,22 @@ def show_tasks_tab():
                 tw.setCurrentIndex(i)
 
 
+def show_model_tab(select=None):
+    cv = combo_view()
+    if cv is None:
+        return
+    for tw in cv.findChildren(QtGui.QTabWidget):
+        for i in range(tw.count()):
+            if tw.tabText(i) == "Model":
+                tw.setCurrentIndex(i)
+    for tree in cv.findChildren(QtGui.QTreeWidget):
+        tree.expandAll()
+    if select is not None:
+        FreeCADGui.Selection.clearSelection()
+        FreeCADGui.Selection.addSelection(select.Document.Name, select.Name)
+    wait_ms(200)
+
+
 def fill_file_dialog(path, timeout=10.0):
     """Answers the next modal file dialog with path (as a user typing it and pressing Save)."""
     t0 = time.perf_counter()
@@ -197,7 +216,11 @@ def fill_file_dialog(path, timeout=10.0):
     def attempt():
         w = QtGui.QApplication.activeModalWidget()
         if isinstance(w, QtGui.QFileDialog):
-            w.selectFile(path)
+            edit = w.findChild(QtGui.QLineEdit, "fileNameEdit")
+            if edit is not None:
+                edit.setText(path)  # typed by the "user"; selectFile() is asynchronous across folders
+            else:
+                w.selectFile(path)
             w.accept()
         elif time.perf_counter() - t0 < timeout:
             QtCore.QTimer.singleShot(50, attempt)
@@ -222,6 +245,10 @@ class Ticker:
 
     def stop(self):
         self.timer.stop()
+
+    def gaps_over(self, limit, origin, until=None):
+        ts = [t for t in self.ticks if until is None or t <= until]
+        return [(round(a - origin, 3), round((b - a) * 1000, 1)) for a, b in zip(ts, ts[1:]) if b - a > limit]
 
     def max_gap(self, until=None):
         ts = [t for t in self.ticks if until is None or t <= until]
@@ -315,6 +342,11 @@ def step_surface_mesh(doc, wing, analysis):
     check("surface mesh command inactive without a selection", not commands.SurfaceMeshCommand().IsActive())
     FreeCADGui.Selection.addSelection(doc.Name, wing.Name)
     check("surface mesh command active with the wing selected", commands.SurfaceMeshCommand().IsActive())
+    wait_ms(200)  # let the toolbar update its enabled state
+    tb = [t for t in main_window().findChildren(QtGui.QToolBar) if t.objectName() == "ParaMesh"]
+    if tb:
+        shot_widget(tb[0], "toolbar.png")
+    shot_window("window_workbench.png")
     FreeCADGui.runCommand("ParaMesh_SurfaceMesh")
     ok = wait_until(lambda: active_panel() is not None, 5)
     panel = active_panel()
@@ -330,13 +362,27 @@ def step_surface_mesh(doc, wing, analysis):
     size_text = panel.params.widget("Size").text()
     check("lengths shown with units", "mm" in size_text, size_text)
 
-    # quads are not implemented in the core yet: a normal error in the panel, no dialog
-    panel.params.set_value("Quads", True)
+    # a parameter error is a normal error in the panel, never a dialog
+    panel.params.set_value("Size", 16.75)
+    panel.params.set_value("MinSize", 20.0)
+    panel.params.set_value("MaxSize", 10.0)
     press(QtGui.QDialogButtonBox.Apply)
     state = wait_run(panel, 30)
     err = panel.run.error
-    check("quads=True is reported in the panel", state == "failed" and "quad" in err.lower(), err[:200])
+    check("a parameter error is shown in the panel", state == "failed" and "min_size" in err, err[:200])
+    check("the error is in the panel's summary", "min_size" in panel.run.summary.text())
     check("no dialog box for a meshing error", QtGui.QApplication.activeModalWidget() is None)
+    panel.params.set_value("MinSize", 0.0)
+    panel.params.set_value("MaxSize", 0.0)
+    # quad-dominant: either meshed with quads or (older cores) a normal error in the panel
+    panel.params.set_value("Quads", True)
+    press(QtGui.QDialogButtonBox.Apply)
+    state = wait_run(panel, 30)
+    quads = report(mesh).get("counts", {}).get("quads", 0)
+    check("quads=True meshes quads or is reported in the panel",
+          (state == "done" and quads > 0) or (state == "failed" and "quad" in panel.run.error.lower()),
+          f"{state} quads={quads} {panel.run.error[:100]}")
+    METRICS["quad_dominant_quads"] = quads
     panel.params.set_value("Quads", False)
 
     panel.params.set_value("Size", 16.75)
@@ -419,6 +465,28 @@ def step_boundary_layer(doc, wing, mesh):
                 panel.refs.list.item(i).setSelected(panel.refs.list.item(i).text() in extra)
             panel.refs.remove.click()
         check("other proposals removed again", panel.refs.names() == ["Edge21"], panel.refs.names())
+    # an aggressive layer on two edges: faces that cannot be meshed are named in the panel
+    panel.refs.add("Edge9")
+    panel.params.set_value("FirstHeight", 2.0)
+    panel.params.set_value("Growth", 1.3)
+    panel.params.set_value("Layers", 40)
+    press(QtGui.QDialogButtonBox.Apply)
+    state = wait_run(panel, 60)
+    r = report(mesh)
+    bad = [f["name"] for f in r.get("faces", []) if f.get("status") != "ok"]
+    shown = panel.run.summary.text() + panel.run.log.toPlainText()
+    check("every face that did not mesh is named in the panel", state == "done" and all(b in shown for b in bad),
+          f"status {r.get('status')}, faces not ok: {bad}")
+    if bad:
+        shot_widget(combo_view(), "task_boundary_layer_failed_face.png")
+    from freecad.paramesh.gui.widgets import report_lines
+    lines = report_lines({"status": "degraded", "message": "1 of 2 faces failed", "counts": {},
+                          "faces": [{"name": "Face1", "status": "ok"},
+                                    {"name": "Face7", "surface": "bspline", "status": "failed",
+                                     "error": "boundary recovery failed"}]})
+    check("report lines name the failing face and its reason",
+          any(lv == "error" and "Face7" in t and "boundary recovery failed" in t for lv, t in lines), lines)
+    panel.refs.remove_names({"Edge9"})
     panel.params.set_value("FirstHeight", 0.5)
     panel.params.set_value("Growth", 1.2)
     panel.params.set_value("Layers", 20)
@@ -488,6 +556,8 @@ def step_local_size(doc, wing, mesh):
     check("OK without changes closes at once", wait_until(lambda: active_panel() is None, 5))
     check("mesh lists its children", list(mesh.LocalSizeList) == [ls]
           and set(mesh.ViewObject.Proxy.claimChildren()) == set(mesh.BoundaryLayerList) | {ls})
+    show_model_tab(mesh)
+    shot_window("window_tree.png")
     return ls
 
 
@@ -550,6 +620,8 @@ def step_quality(doc, mesh):
     q.combo.setCurrentIndex(1)  # minimum angle
     wait_ms(50)
     check("colour by minimum angle", q.metric == "min_angle" and q.table.rowCount() > 0)
+    zoom_to(view, (30.0, 0.0, 0.0), 120.0, direction=(0.3, 0.8, -0.5))
+    shot_view("quality_min_angle_leading_edge.png")
     press(QtGui.QDialogButtonBox.Close)
     check("quality view closed", wait_until(lambda: task_quality.ACTIVE is None, 5))
     view.fitAll()
@@ -678,6 +750,8 @@ def step_latency():
     paints_during = paints.count
     wait_until(lambda: panel.run.state in ("done", "failed", "cancelled"), 120)
     ticker.stop()
+    log(f"RunBox tick max {getattr(panel.run, 'tick_max', 0) * 1000:.1f} ms")
+    log(f"gaps > 50 ms (s after the worker started, ms): {ticker.gaps_over(0.05, runner.t_start, t_end)}")
     r = report(mesh)
     tri = r.get("counts", {}).get("triangles", 0)
     METRICS.update(latency_max_gap_ms=round(gap * 1000, 1), latency_ticks=n, big_size=BIG_SIZE,
@@ -697,9 +771,13 @@ def step_latency():
 def run_all():
     obs = ReportObserver()
     mw = main_window()
-    mw.resize(1600, 1000)
+    mw.setGeometry(QtGui.QGuiApplication.primaryScreen().availableGeometry())
     mw.showMaximized()
-    wait_ms(500)
+    wait_ms(300)
+    cv = combo_view()
+    if cv is not None:  # room for the task panels in the screenshots
+        mw.resizeDocks([cv], [470], QtCore.Qt.Horizontal)
+    wait_ms(300)
     steps_failed = []
 
     def guarded(name, fn, *args):
@@ -720,18 +798,16 @@ def run_all():
 
     guarded("workbench", step_workbench)
     tb = [t for t in mw.findChildren(QtGui.QToolBar) if t.objectName() == "ParaMesh"]
-    res = guarded("document", step_document)
+    only_big = os.environ.get("PARAMESH_GUI_ONLY_BIG") == "1"  # for development: the latency run alone
+    res = None if only_big else guarded("document", step_document)
     if res:
         doc, wing, analysis = res
-        if tb:
-            shot_widget(tb[0], "toolbar.png")
-        shot_window("window_workbench.png")
         mesh = guarded("surface mesh", step_surface_mesh, doc, wing, analysis)
         guarded("cancel", step_cancel, doc, wing)
         if mesh is not None:
+            guarded("second order", step_second_order, doc, mesh)
             guarded("boundary layer", step_boundary_layer, doc, wing, mesh)
             guarded("local size", step_local_size, doc, wing, mesh)
-            guarded("second order", step_second_order, doc, mesh)
             guarded("quality", step_quality, doc, mesh)
             guarded("export", step_export, doc, mesh)
             guarded("to mesh", step_to_mesh, doc, mesh)
@@ -799,4 +875,6 @@ def _watchdog():
 _timer = threading.Timer(WATCHDOG_S, _watchdog)
 _timer.daemon = True
 _timer.start()
+# backstop that needs no GIL (a blocked main thread can starve the timer above)
+faulthandler.dump_traceback_later(WATCHDOG_S + 20, exit=True, file=_fault_file)
 QtCore.QTimer.singleShot(0, main)

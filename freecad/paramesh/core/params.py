@@ -22,6 +22,8 @@ FIELDS = {
     "order": ("1 or 2", "Element order; 2 puts mid-edge nodes on the CAD."),
     "quads": ("bool", "Quad-dominant surface mesh."),
     "optimize_passes": ("count", "Passes of the 3D optimiser (swaps and smoothing)."),
+    "proximity": ("count", "At least this many elements across thin walls and narrow faces (a first mesh "
+                  "measures them). 0: off."),
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
@@ -160,6 +162,7 @@ class MeshParams:
     order: int = 1
     quads: bool = False
     optimize_passes: int = 4
+    proximity: int = 0
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
 
@@ -187,6 +190,7 @@ class MeshParams:
         if not isinstance(self.quads, bool):
             raise TypeError(f"quads must be True or False, got {self.quads!r}")
         self.optimize_passes = _number("optimize_passes", self.optimize_passes, lo=0, hi=100, integer=True)
+        self.proximity = _number("proximity", self.proximity, lo=0, hi=100, integer=True)
         if isinstance(self.local_sizes, (dict, str, LocalSize)):
             self.local_sizes = [self.local_sizes]
         if isinstance(self.boundary_layers, (dict, BoundaryLayer)):
@@ -203,7 +207,7 @@ class MeshParams:
         from .. import _native
         n = _native.MeshParams()
         for name in ("size", "min_size", "max_size", "curvature_angle", "max_deviation", "grading",
-                     "threads", "order", "quads", "optimize_passes"):
+                     "threads", "order", "quads", "optimize_passes", "proximity"):
             setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:

@@ -25,6 +25,8 @@ class MeshRunner:
     def __init__(self):
         self.state = "idle"
         self.job = None
+        self.params = None
+        self.brep = None
         self.result = None
         self.error = ""
         self.fraction = 0.0
@@ -38,20 +40,27 @@ class MeshRunner:
 
     # -- GUI thread ---------------------------------------------------------------------------------
     def prepare(self, obj):
-        """Reads parameters and shape of obj; raises RunError with a readable message."""
+        """Reads the parameters and the shape of obj (as BREP text: Part objects must be read on the
+        GUI thread); raises RunError with a readable message. Parsing the BREP and building the
+        mesher happen in the worker, so the GUI thread only does the cheap part."""
         part = getattr(obj, "Part", None)
         if part is None or not hasattr(part, "Shape"):
             raise RunError(f"{obj.Label}: no Part to mesh (set its Part property)")
+        shape = part.Shape
         try:
-            params = obj.Proxy.params(obj)
-            self.job = MeshJob(part.Shape, params)
-        except Exception as e:  # ParameterError, InputError, ValueError, TypeError: all user errors
+            if shape.isNull():
+                raise ValueError(f"{part.Label}: the shape is empty")
+            if not shape.Faces:
+                raise ValueError(f"{part.Label}: the shape has no face to mesh (type {shape.ShapeType})")
+            self.params = obj.Proxy.params(obj)
+        except Exception as e:  # ValueError, TypeError from validation: user errors
             raise RunError(str(e)) from e
+        self.brep = shape.exportBrepToString()
         self.state = "prepared"
         return self
 
     def start(self):
-        if self.job is None:
+        if self.state != "prepared":
             raise RunError("prepare() was not called")
         self.state = "running"
         self.t_start = time.perf_counter()
@@ -83,10 +92,12 @@ class MeshRunner:
         and inside long loops)."""
         if self.state != "running":
             return
-        self._cancel = True
-        self.t_cancel = time.perf_counter()
-        if self.job is not None:
-            self.job.cancel()
+        with self._lock:
+            self._cancel = True
+            self.t_cancel = time.perf_counter()
+            job = self.job
+        if job is not None:
+            job.cancel()
 
     def take_messages(self):
         """Log lines (level, text) received since the last call."""
@@ -106,7 +117,13 @@ class MeshRunner:
 
     def _work(self):
         try:
-            self.result = self.job.run(progress=self._progress, log=self._log)
+            job = MeshJob(self.brep, self.params)
+            with self._lock:
+                self.job = job
+                cancelled = self._cancel
+            if cancelled:
+                raise Cancelled("cancelled before the start")
+            self.result = job.run(progress=self._progress, log=self._log)
             state = "cancelled" if self._cancel else "done"
         except Cancelled:
             state = "cancelled"

@@ -84,6 +84,10 @@ class MeshTaskPanel:
         return self.run.start(self.mesh)
 
     def accept(self):
+        if self.run.running:
+            self.close_after_run = True
+            self.run.message("log", "the panel closes when the run ends")
+            return False
         started = self.apply(close_after=True)
         if started or self.run.running:
             return False  # closes when the run succeeds (see _run_finished)

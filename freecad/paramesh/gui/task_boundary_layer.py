@@ -5,6 +5,7 @@ the parent surface mesh."""
 import FreeCADGui
 from PySide import QtGui
 
+from .. import resource_path
 from .task_base import MeshTaskPanel, remove_objects
 from .widgets import Field, ParamForm, ReferenceList
 
@@ -35,7 +36,8 @@ class TaskBoundaryLayer(MeshTaskPanel):
 
     def build_forms(self):
         bl, m = self.bl, self.mesh
-        self.refs = ReferenceList("Edges", m.Part, ("Edge",), bl.References)
+        self.refs = ReferenceList(f"Edges of {m.Part.Label if m.Part else '?'}", m.Part, ("Edge",),
+                                  bl.References, icon=resource_path("icons", "ParaMesh_BoundaryLayer.svg"))
         self.refs.setToolTip(bl.getDocumentationOfProperty("References"))
         self.propose = QtGui.QPushButton("Propose leading edges automatically")
         self.propose.setObjectName("ProposeLeadingEdges")
@@ -47,8 +49,10 @@ class TaskBoundaryLayer(MeshTaskPanel):
         self.proposal = QtGui.QLabel("")
         self.proposal.setWordWrap(True)
         self.refs.layout().addWidget(self.proposal)
-        self.params = ParamForm(bl, boundary_layer_fields(), f"ParaMesh boundary layer — {bl.Label}")
+        self.params = ParamForm(bl, boundary_layer_fields(), f"ParaMesh boundary layer — {bl.Label}",
+                                icon=resource_path("icons", "ParaMesh_BoundaryLayer.svg"))
         self.thickness_label = QtGui.QLabel()
+        self.thickness_label.setWordWrap(True)
         self.params.layout_.addRow("Resulting", self.thickness_label)
         for prop in ("FirstHeight", "Thickness"):
             self.params.widget(prop).valueChanged.connect(self.update_info)

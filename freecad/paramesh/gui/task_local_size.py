@@ -3,6 +3,7 @@
 the size near them, and a run box that re-meshes the parent surface mesh."""
 import FreeCADGui
 
+from .. import resource_path
 from .task_base import MeshTaskPanel, remove_objects
 from .widgets import Field, ParamForm, ReferenceList
 
@@ -15,10 +16,13 @@ class TaskLocalSize(MeshTaskPanel):
 
     def build_forms(self):
         ls, m = self.ls, self.mesh
-        self.refs = ReferenceList("Faces, edges, vertices", m.Part, ("Face", "Edge", "Vertex"), ls.References)
+        self.refs = ReferenceList(f"Faces, edges, vertices of {m.Part.Label if m.Part else '?'}", m.Part,
+                                  ("Face", "Edge", "Vertex"), ls.References,
+                                  icon=resource_path("icons", "ParaMesh_LocalSize.svg"))
         self.refs.setToolTip(ls.getDocumentationOfProperty("References"))
         self.params = ParamForm(ls, [Field("Size", "Size", "length", step=0.1)],
-                                f"ParaMesh local size — {ls.Label}")
+                                f"ParaMesh local size — {ls.Label}",
+                                icon=resource_path("icons", "ParaMesh_LocalSize.svg"))
         self.refs.pick.setChecked(True)
         self.picking_view()
         return [self.refs, self.params]

@@ -52,23 +52,24 @@ class Histogram(QtGui.QWidget):
         plot = QtCore.QRect(r.left() + left, r.top() + top, r.width() - left - right, r.height() - top - bottom)
         p.setPen(QtGui.QColor(30, 30, 30))
         total = int(self.counts.sum()) if len(self.counts) else 0
-        p.drawText(r.left() + 4, r.top() + th, f"{self.title}  ({total})")
+        p.drawText(r.left() + 4, r.top() + th, f"{self.title}  ({total} values, log scale)")
         if len(self.counts) == 0 or plot.width() <= 0 or plot.height() <= 0:
             p.end()
             return
         cmax = max(1, int(self.counts.max()))
         n = len(self.counts)
         bw = plot.width() / n
+        top = np.log10(1.0 + cmax)  # log scale: a few bad elements stay visible next to thousands of good ones
         for i, c in enumerate(self.counts):
             if c <= 0:
                 continue
-            h = max(1, int(round(plot.height() * c / cmax)))
+            h = max(2, int(round(plot.height() * np.log10(1.0 + c) / top)))
             col = self.colors[i] if i < len(self.colors) else QtGui.QColor(70, 110, 200)
             p.fillRect(QtCore.QRectF(plot.left() + i * bw + 0.5, plot.bottom() - h + 1, max(1.0, bw - 1), h), col)
         p.setPen(QtGui.QColor(90, 90, 90))
         p.drawLine(plot.bottomLeft(), plot.bottomRight())
         p.drawLine(plot.bottomLeft(), plot.topLeft())
-        p.drawText(r.left() + 2, plot.top() + th // 2, str(cmax))
+        p.drawText(r.left() + 2, plot.top() + th, str(cmax))
         p.drawText(r.left() + 2, plot.bottom(), "0")
         lo, hi = float(self.edges[0]), float(self.edges[-1])
         for x in [lo, (lo + hi) / 2, hi] + self.marks:
@@ -124,6 +125,7 @@ class TaskQuality:
         self.form = self._build()
         self.metric = "radius_ratio"
         self.fill()
+        FreeCADGui.Selection.clearSelection()  # the selection colour would tint the colour map
         self.apply_colors()
         ACTIVE = self
 
@@ -215,6 +217,10 @@ class TaskQuality:
         ids = q.element_ids.tolist()
         vo.ElementColor = {e: tuple(c) for e, c in zip(ids, rgb.tolist())}
         vo.Visibility = True
+        if not hasattr(self, "_display_mode"):
+            self._display_mode = vo.DisplayMode
+            if "Faces" in vo.listDisplayModes():
+                vo.DisplayMode = "Faces"  # colours read better without the dense wireframe
         self.colored = len(ids)
         return self.colored
 
@@ -249,7 +255,7 @@ class TaskQuality:
             view = FreeCADGui.getDocument(self.mesh.Document.Name).ActiveView
             cam = view.getCameraNode()
             d = view.getViewDirection()
-            size = max(extent * 12.0, 1e-6)
+            size = max(extent * 3.0, 1e-6)
             pos = FreeCAD.Vector(*center) - d * (size * 4.0)
             cam.position.setValue(pos.x, pos.y, pos.z)
             cam.focalDistance.setValue(size * 4.0)
@@ -269,6 +275,8 @@ class TaskQuality:
             try:
                 vo.ElementColor = {}
                 vo.HighlightedNodes = []
+                if getattr(self, "_display_mode", None):
+                    vo.DisplayMode = self._display_mode
             except Exception:
                 pass
 

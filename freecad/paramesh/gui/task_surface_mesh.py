@@ -18,6 +18,7 @@ def surface_mesh_fields():
         Field("Grading", "Grading", "float", minimum=1.01, maximum=10.0, step=0.05, decimals=2),
         Field("ElementOrder", "Element order", "enum", items=["1st", "2nd"]),
         Field("Quads", "Quad-dominant", "bool"),
+        Field("Proximity", "Elements across thin parts", "int", maximum=100, special="off"),
         Field("Threads", "Threads", "int", maximum=1024, special="all cores"),
         Field("OptimizePasses", "Optimisation passes", "int", maximum=100),
         Field("CreateMeshFeature", "Also make a Mesh feature", "bool"),

@@ -36,11 +36,13 @@ class ParamForm(QtGui.QWidget):
     """A form of Fields bound to an object's properties; tooltips come from the property
     documentation (the same text as the property editor's)."""
 
-    def __init__(self, obj, fields, title, parent=None):
+    def __init__(self, obj, fields, title, parent=None, icon=None):
         super().__init__(parent)
         self.obj = obj
         self.fields = fields
         self.setWindowTitle(title)
+        if icon:
+            self.setWindowIcon(QtGui.QIcon(icon))
         self.layout_ = QtGui.QFormLayout(self)
         for f in fields:
             f.widget = self._make(f)
@@ -182,14 +184,17 @@ class _Gate:
         return bool(sub) and sub.startswith(self.prefixes)
 
 
-class ReferenceList(QtGui.QGroupBox):
+class ReferenceList(QtGui.QWidget):
     """Sub-elements (EdgeN, FaceN, VertexN) of the meshed Part. While 'Pick in 3D view' is on, a
     click on an allowed sub-element in the 3D view adds it (a second click removes it)."""
 
     changed = QtCore.Signal()
 
-    def __init__(self, title, part, prefixes, references=(), parent=None):
-        super().__init__(title, parent)
+    def __init__(self, title, part, prefixes, references=(), parent=None, icon=None):
+        super().__init__(parent)
+        self.setWindowTitle(title)
+        if icon:
+            self.setWindowIcon(QtGui.QIcon(icon))
         self.part = part
         self.prefixes = tuple(prefixes)
         self._observer = None
@@ -329,14 +334,17 @@ def report_lines(report):
 _COLORS = {"error": "#c00000", "warning": "#b06000", "info": "#202020", "ok": "#006000", "log": "#505050"}
 
 
-class RunBox(QtGui.QGroupBox):
+class RunBox(QtGui.QWidget):
     """Progress, log, elapsed time and Cancel of a meshing run of a surface mesh object. The mesh
     is computed by a worker thread; the result is applied on the GUI thread when it ends."""
 
     finished = QtCore.Signal(str)  # state: done, failed, cancelled
 
     def __init__(self, parent=None):
-        super().__init__("Meshing", parent)
+        super().__init__(parent)
+        self.setWindowTitle("Meshing (Apply / OK run it in the background)")
+        from .. import resource_path
+        self.setWindowIcon(QtGui.QIcon(resource_path("icons", "ParaMesh_SurfaceMesh.svg")))
         lay = QtGui.QVBoxLayout(self)
         self.bar = QtGui.QProgressBar()
         self.bar.setRange(0, 1000)
@@ -350,6 +358,7 @@ class RunBox(QtGui.QGroupBox):
         self.cancel_button.setEnabled(False)
         row.addWidget(self.cancel_button)
         lay.addLayout(row)
+        self.bar.setMinimumWidth(120)
         self.time_label = QtGui.QLabel("Time: -")
         lay.addWidget(self.time_label)
         self.summary = QtGui.QLabel("")
@@ -364,7 +373,7 @@ class RunBox(QtGui.QGroupBox):
         lay.addWidget(self.log)
         self.cancel_button.clicked.connect(self.cancel)
         self.timer = QtCore.QTimer(self)
-        self.timer.setInterval(100)
+        self.timer.setInterval(200)
         self.timer.timeout.connect(self._tick)
         self.qrunner = None
         self.obj = None
@@ -437,14 +446,29 @@ class RunBox(QtGui.QGroupBox):
         self.finished.emit("failed")
 
     def _tick(self):
+        import time as _t
+        t0 = _t.perf_counter()
+        try:
+            self._tick_impl()
+        finally:
+            dt = _t.perf_counter() - t0
+            self.tick_max = max(getattr(self, "tick_max", 0.0), dt)
+
+    def _tick_impl(self):
         r = self.runner
         if r is None:
             return
         for level, text in r.take_messages():
             self.message("warning" if level >= 2 else "log", text)
         if r.running:
-            self.bar.setValue(int(1000 * min(1.0, max(0.0, r.fraction))))
-            self.bar.setFormat(f"%p% — {r.stage or 'starting'}")
+            # touch only what changed: every repaint of a widget next to the OpenGL view costs a
+            # window composition (tens of ms with software OpenGL)
+            value = int(1000 * min(1.0, max(0.0, r.fraction)))
+            if value != self.bar.value():
+                self.bar.setValue(value)
+            fmt = f"%p% — {r.stage or 'starting'}"
+            if fmt != self.bar.format():
+                self.bar.setFormat(fmt)
             self.time_label.setText(f"Time: {r.elapsed:.1f} s")
         elif self.state == "running":  # the finished signal was lost: handle the end here
             self._on_finished()

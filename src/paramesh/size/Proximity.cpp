@@ -114,70 +114,80 @@ std::vector<SizeSource> proximitySources(const SurfaceMesh& m, int n, double hma
     });
     if (best < reach) out.push_back({c, std::max(best / across, hmin)});
   }
-  // 2) narrow faces: across each face, between parts of its boundary that are not neighbours
-  std::map<int, std::vector<std::array<int, 2>>> boundary;  // face -> boundary segments
+  // 2) narrow faces: across each face, between parts of its boundary that face each other. The
+  //    boundary is oriented by its triangles (face interior on the left), so a chord counts only
+  //    when it leaves the boundary into the face and arrives at the other side from inside (a hole
+  //    or a notch across empty space is not a narrow face).
+  struct Seg {
+    int a, b;  // oriented a -> b, face interior on the left
+    Vec3 in;   // unit inward direction (in the face's tangent plane)
+  };
+  std::map<int, std::vector<Seg>> boundary;  // face -> boundary segments
   {
-    std::map<std::pair<int, int>, std::pair<int, int>> count;  // (min,max) -> (uses, face)
-    std::map<std::tuple<int, int, int>, int> uses;
+    std::map<std::tuple<int, int, int>, std::pair<int, int>> uses;  // (face,min,max) -> (count, triangle*3+k)
     for (size_t t = 0; t < nt; ++t) {
       const auto& T = m.triangles[t];
       for (int k = 0; k < 3; ++k) {
         const int a = T[k], b = T[(k + 1) % 3];
-        ++uses[{m.triangleFace[t], std::min(a, b), std::max(a, b)}];
+        auto& u = uses[{m.triangleFace[t], std::min(a, b), std::max(a, b)}];
+        ++u.first;
+        u.second = (int)t * 3 + k;
       }
     }
-    for (const auto& kv : uses)
-      if (kv.second == 1) boundary[std::get<0>(kv.first)].push_back({std::get<1>(kv.first), std::get<2>(kv.first)});
+    for (const auto& kv : uses) {
+      if (kv.second.first != 1) continue;
+      const int t = kv.second.second / 3, k = kv.second.second % 3;
+      const auto& T = m.triangles[t];
+      const int a = T[k], b = T[(k + 1) % 3];
+      boundary[std::get<0>(kv.first)].push_back({a, b, normalized(cross(tn[t], m.nodes[b] - m.nodes[a]))});
+    }
   }
   for (const auto& fb : boundary) {
     const auto& segs = fb.second;
-    std::map<int, std::vector<int>> nodeSegs;
+    std::unordered_map<int, std::vector<int>> nodeSegs;
     for (size_t s = 0; s < segs.size(); ++s) {
-      nodeSegs[segs[s][0]].push_back((int)s);
-      nodeSegs[segs[s][1]].push_back((int)s);
+      nodeSegs[segs[s].a].push_back((int)s);
+      nodeSegs[segs[s].b].push_back((int)s);
     }
     Grid sg(std::max(reach, 1e-12));
     for (size_t s = 0; s < segs.size(); ++s) {
       Box3 b;
-      b.add(m.nodes[segs[s][0]]);
-      b.add(m.nodes[segs[s][1]]);
+      b.add(m.nodes[segs[s].a]);
+      b.add(m.nodes[segs[s].b]);
       sg.add((int)s, b.lo, b.hi);
     }
     for (const auto& ns : nodeSegs) {
       const int v = ns.first;
       const Vec3 p = m.nodes[v];
-      // the boundary tangent at v and the segments near it along the boundary (2 hops)
-      Vec3 tan{0, 0, 0};
-      std::vector<int> near;
-      for (int s : ns.second) {
-        const int o = segs[s][0] == v ? segs[s][1] : segs[s][0];
-        tan += normalized(segs[s][0] == v ? m.nodes[o] - p : p - m.nodes[o]);
-        near.push_back(s);
-        for (int s2 : nodeSegs[o]) near.push_back(s2);
-      }
-      tan = normalized(tan);
+      Vec3 in{0, 0, 0};
+      for (int s : ns.second) in += segs[s].in;
+      if (!(norm(in) > 1e-9)) continue;  // a cusp: no inward direction
+      in = normalized(in);
       double best = reach;
+      Vec3 bestQ = p;
       sg.query(p, reach, [&](int s) {
-        if (std::find(near.begin(), near.end(), s) != near.end()) return;
-        const Vec3 a = m.nodes[segs[s][0]], b = m.nodes[segs[s][1]];
-        const Vec3 q = closestOnSegment(p, a, b);
+        if (segs[s].a == v || segs[s].b == v) return;
+        const Vec3 q = closestOnSegment(p, m.nodes[segs[s].a], m.nodes[segs[s].b]);
         const Vec3 d = q - p;
         const double l = norm(d);
         if (!(l > 0) || l >= best) return;
-        // across the face: roughly perpendicular to both boundary pieces (not around a corner)
-        if (std::fabs(dot(d, tan)) > 0.5 * l) return;
-        if (std::fabs(dot(d, normalized(b - a))) > 0.5 * l) return;
+        if (dot(d, in) < 0.6 * l) return;             // leaves p into the face
+        if (dot(d, segs[s].in) > -0.6 * l) return;    // reaches the other side from inside
         best = l;
+        bestQ = q;
       });
       if (best < reach) {
         const double h = std::max(best / across, hmin);
         // along the boundary segments at v, densely, so that the size holds between the nodes
         for (int s : ns.second) {
-          const int o = segs[s][0] == v ? segs[s][1] : segs[s][0];
+          const int o = segs[s].a == v ? segs[s].b : segs[s].a;
           const Vec3 q = m.nodes[o];
           const int k = std::min(64, (int)std::ceil(0.5 * dist(p, q) / h));
           for (int j = 0; j < k; ++j) out.push_back({p + ((double)j / (2.0 * k)) * (q - p), h});
         }
+        // and across the face: without these, the size grades up towards the middle of the face
+        const int k = std::min(64, (int)std::ceil(best / h));
+        for (int j = 1; j < k; ++j) out.push_back({p + ((double)j / k) * (bestQ - p), h});
       }
     }
   }

@@ -36,6 +36,7 @@ class SurfaceMesh(BaseProxy):
         add_property(obj, "App::PropertyEnumeration", "ElementOrder", GROUP, _tip("order"),
                      enum=["1st", "2nd"])
         add_property(obj, "App::PropertyBool", "Quads", GROUP, _tip("quads"), False)
+        add_property(obj, "App::PropertyInteger", "Proximity", GROUP, _tip("proximity"), 0)
         add_property(obj, "App::PropertyInteger", "Threads", GROUP, _tip("threads"), 0)
         add_property(obj, "App::PropertyInteger", "OptimizePasses", GROUP, _tip("optimize_passes"), 4)
         add_property(obj, "App::PropertyLinkList", "BoundaryLayerList", GROUP,
@@ -58,7 +59,8 @@ class SurfaceMesh(BaseProxy):
                        curvature_angle=float(obj.CurvatureAngle), max_deviation=float(obj.MaxDeviation),
                        grading=float(obj.Grading), threads=int(obj.Threads),
                        order=2 if obj.ElementOrder == "2nd" else 1, quads=bool(obj.Quads),
-                       optimize_passes=int(obj.OptimizePasses))
+                       optimize_passes=int(obj.OptimizePasses),
+                       proximity=int(getattr(obj, "Proximity", 0)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
@@ -94,11 +96,11 @@ class SurfaceMesh(BaseProxy):
 
     def apply_result(self, obj, result):
         """Stores a finished MeshResult in the object (also used by the GUI's worker thread)."""
-        self._result = result  # kept in memory (not saved) for exports and the quality view
         fm = result.to_femmesh()
         from ..to_femmesh import add_constraint_groups
         add_constraint_groups(fm, result, obj.Part, self.analysis_constraints(obj))
         obj.FemMesh = fm
+        self._result = result  # kept in memory (not saved) for exports and the quality view
         obj.Status = result.report["status"]
         obj.Report = json.dumps(result.report)
         if result.report["status"] != "ok":
