@@ -35,7 +35,13 @@ def test_macro_m6_saves_and_reopens_with_the_same_counts(tmp_path):
     fem = [o for o in doc.Objects if o.TypeId == "Fem::FemMeshObjectPython"][0]
     counts = (fem.FemMesh.NodeCount, fem.FemMesh.FaceCount, fem.MeshFeature.Mesh.CountFacets)
     names = (fem.Name, fem.MeshFeature.Name)
-    assert fem.Status == "ok" and counts[1] == counts[2] > 5000
+    tris, quads = fem.FemMesh.TriangleCount, fem.FemMesh.QuadrangleCount
+    assert fem.Status == "ok" and counts[1] == tris + quads and tris > 5000
+    assert quads > 1000, "the leading-edge layer's rows of quads"
+    assert counts[2] == tris + 2 * quads, "the Mesh::Feature splits each quad in two triangles"
+    bl = [o for o in doc.Objects if o.Name.startswith("BoundaryLayer")]
+    assert len(bl) == 1 and bl[0] in fem.BoundaryLayerList
+    assert sorted(bl[0].References[0][1]) == ["Edge21", "Edge6"] and bl[0].References[0][0] == fem.Part
     assert fem.Part.Name == "Wing" and fem in doc.getObject("Analysis").Group
     FreeCAD.closeDocument(doc.Name)
     d2 = FreeCAD.openDocument(out)
