@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <mutex>
 #include <numeric>
 #include <set>
@@ -317,6 +318,27 @@ struct Mesher::Impl {
       if (v0 >= 0) nodeOfVertex(v0);
       if (v1 >= 0) nodeOfVertex(v1);
     }
+    // Interior nodes of different edges that coincide (unsewn patches whose curves agree at the
+    // nodes but not everywhere within the merge tolerance) become one node: no duplicate nodes.
+    const double eps = 1e-8 * model.boundingBox().diagonal();
+    std::unordered_map<uint64_t, std::vector<int>> edgeNodeCells;
+    auto cellOf = [eps](Vec3 p, int di, int dj, int dk) {
+      const auto q = [eps](double x, int d) { return (uint64_t)((int64_t)std::floor(x / (4 * eps)) + d) & 0x1FFFFF; };
+      return (q(p.x, di) << 42) | (q(p.y, dj) << 21) | q(p.z, dk);
+    };
+    auto edgeNode = [&](Vec3 p, int e, double t) {
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int dk = -1; dk <= 1; ++dk) {
+            auto it = edgeNodeCells.find(cellOf(p, di, dj, dk));
+            if (it == edgeNodeCells.end()) continue;
+            for (int nd : it->second)
+              if (mesh.nodeEntity[nd] != e + 1 && dist(mesh.nodes[nd], p) <= eps) return nd;
+          }
+      const int nd = mesh.addNode(p, NodeKind::Edge, e + 1, {t, 0});
+      edgeNodeCells[cellOf(p, 0, 0, 0)].push_back(nd);
+      return nd;
+    };
     for (int e = 0; e < ne; ++e) {
       if (same.edgeRep[e] != e) continue;
       EdgeMesh& em = edges[e];
@@ -334,12 +356,16 @@ struct Mesher::Impl {
         } else if (em.degenerate) {
           em.nodes[i] = v0 >= 0 ? vertexNode[v0] : (v1 >= 0 ? vertexNode[v1] : -1);
         } else {
-          em.nodes[i] = mesh.addNode(c->eval(em.t[i]), NodeKind::Edge, e + 1, {em.t[i], 0});
+          em.nodes[i] = edgeNode(c->eval(em.t[i]), e, em.t[i]);
         }
       }
       if (!em.degenerate)
         for (size_t i = 0; i + 1 < n; ++i) {
           if (em.nodes[i] == em.nodes[i + 1]) continue;  // an edge shorter than the merge tolerance
+          if (mesh.nodeEntity[em.nodes[i]] != e + 1 && mesh.nodeEntity[em.nodes[i + 1]] != e + 1 &&
+              mesh.nodeKind[em.nodes[i]] == NodeKind::Edge && mesh.nodeKind[em.nodes[i + 1]] == NodeKind::Edge &&
+              mesh.nodeEntity[em.nodes[i]] == mesh.nodeEntity[em.nodes[i + 1]])
+            continue;  // this piece coincides with a piece of another edge: one 1D element
           mesh.segments.push_back({em.nodes[i], em.nodes[i + 1]});
           mesh.segmentEdge.push_back(e + 1);
           segmentT.push_back({em.t[i], em.t[i + 1]});
