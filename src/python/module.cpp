@@ -256,6 +256,10 @@ PYBIND11_MODULE(_native, mod) {
                              "(M,) int32 1-based CAD face of each triangle")
       .def_property_readonly("quad_face", [](const PyResult& r) { return intVector(r.mesh.quadFace); },
                              "(K,) int32 1-based CAD face of each quad")
+      .def_property_readonly("triangle_layer", [](const PyResult& r) { return intVector(r.mesh.triangleLayer); },
+                             "(M,) int32 1-based boundary-layer spec of each triangle, 0 outside the layers")
+      .def_property_readonly("quad_layer", [](const PyResult& r) { return intVector(r.mesh.quadLayer); },
+                             "(K,) int32 1-based boundary-layer spec of each quad, 0 outside the layers")
       .def_property_readonly("node_dim", [](const PyResult& r) {
             std::vector<int> k(r.mesh.nodeKind.size());
             for (size_t i = 0; i < k.size(); ++i) k[i] = (int)r.mesh.nodeKind[i];

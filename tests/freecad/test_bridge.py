@@ -137,3 +137,29 @@ def test_failed_mesh_object_reports_instead_of_raising_in_recompute():
         assert obj.Status == "failed" and "no Part" in json.loads(obj.Report)["message"]
     finally:
         FreeCAD.closeDocument(doc.Name)
+
+
+def test_femmesh_has_one_group_per_boundary_layer_spec():
+    """Two layers (leading edge Edge21 with quads; trailing-edge side Edge6 as split triangles):
+    each gets a group 'BoundaryLayer<k>' holding exactly its rows."""
+    specs = [{"edges": [21], "first_height": 0.5, "growth": 1.2, "layers": 12},
+             {"edges": [6], "first_height": 0.5, "growth": 1.2, "layers": 6, "quads": False}]
+    r = pm.mesh_shape(M6, size=30.0, boundary_layers=specs)
+    layer = r.layer_of_element
+    assert layer.shape == r.face_of_element.shape and set(np.unique(layer)) == {0, 1, 2}
+    # spec 1 is made of quads only, spec 2 of triangles only; the isotropic mesh has no quads
+    assert (r.quad_layer == 1).all() and (r.triangle_layer != 1).all()
+    assert (r.triangle_layer == 2).sum() > 0 and (r.quad_layer != 2).all()
+    # the element counts match the report's per-spec counts
+    rep = {b["spec"]: b for b in r.report["boundary_layers"]}
+    assert (layer == 1).sum() == rep[1]["elements"] and (layer == 2).sum() == rep[2]["elements"]
+    fm = r.to_femmesh()
+    groups = {fm.getGroupName(g): set(fm.getGroupElements(g)) for g in fm.Groups}
+    assert groups["BoundaryLayer1"] == set((np.flatnonzero(layer == 1) + 1).tolist())
+    assert groups["BoundaryLayer2"] == set((np.flatnonzero(layer == 2) + 1).tolist())
+    # the quads of layer 1 are the rows grown from Edge21 into both faces beside it: their first
+    # rows sit on the edge's segments, one quad per segment and side
+    seg = r.segments[r.segment_edge == 21]
+    on_edge = set(seg.ravel().tolist())
+    touching = [q for q in r.quads[r.quad_layer == 1] if len(on_edge.intersection(q.tolist())) == 2]
+    assert len(touching) == 2 * len(seg)

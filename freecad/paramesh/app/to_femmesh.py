@@ -62,7 +62,8 @@ def result_to_mesh(result):
 
 def result_to_femmesh(result, groups=True):
     """A Fem.FemMesh: tria3/quad4 (tria6/quad8 when order 2), node ids = index + 1, element ids
-    consecutive (triangles then quads), one face group per CAD face named 'Face<i>'."""
+    consecutive (triangles then quads), one face group per CAD face named 'Face<i>' and one per
+    boundary-layer spec named 'BoundaryLayer<k>'."""
     _freecad()
     import Fem
     fm = Fem.FemMesh()
@@ -95,6 +96,11 @@ def result_to_femmesh(result, groups=True):
                 continue
             g = fm.addGroup(f"Face{int(chunk_f[0])}", "Face")
             fm.addGroupElements(g, chunk_ids.tolist())
+        # one group per boundary-layer spec: BoundaryLayer1, BoundaryLayer2, ... (spec order)
+        layer = np.concatenate([result.triangle_layer, result.quad_layer]).astype(np.int64)
+        for k in np.unique(layer[layer > 0]).tolist():
+            g = fm.addGroup(f"BoundaryLayer{k}", "Face")
+            fm.addGroupElements(g, (np.flatnonzero(layer == k) + 1).tolist())
     return fm
 
 

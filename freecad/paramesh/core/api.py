@@ -66,6 +66,12 @@ class MeshResult:
         return np.concatenate([self.triangle_face, self.quad_face]).astype(np.int32)
 
     @property
+    def layer_of_element(self):
+        """(M+K,) int32: 1-based boundary-layer spec of each element (triangles then quads), 0
+        outside the layers."""
+        return np.concatenate([self.triangle_layer, self.quad_layer]).astype(np.int32)
+
+    @property
     def report(self):
         if "report" not in self._cache:
             self._cache["report"] = json.loads(self._r.report_json)

@@ -771,6 +771,7 @@ class FaceLayers {
     }
     out_.quads.push_back(q);
     out_.quadUv.push_back(u);
+    out_.quadSpec.push_back(spec);
     ++out_.stats[spec].elements;
   }
   void addTri(int spec, int r0, Vec2 u0, int r1, Vec2 u1, int r2, Vec2 u2) {
@@ -782,6 +783,7 @@ class FaceLayers {
     }
     out_.tris.push_back(t);
     out_.triUv.push_back(u);
+    out_.triSpec.push_back(spec);
     ++out_.stats[spec].elements;
   }
 

@@ -62,6 +62,7 @@ struct FaceBLResult {
   std::vector<std::array<Vec2, 4>> quadUv;  ///< (u,v) of each quad's corners
   std::vector<std::array<int, 3>> tris;     ///< fan triangles at reflex corners
   std::vector<std::array<Vec2, 3>> triUv;
+  std::vector<int> quadSpec, triSpec;       ///< the spec (index) each quad / triangle belongs to
   std::vector<std::vector<LoopPoint>> loops;  ///< the face loops with BL regions cut out
   /// Hand-off: (point, size) pairs along the fronts.
   std::vector<std::pair<Vec3, double>> frontSizes;

@@ -55,6 +55,9 @@ struct FaceMeshResult {
   std::vector<std::array<Vec2, 3>> triUv;  ///< (u,v) of each triangle's corners, contiguous across seams
   std::vector<std::array<int, 4>> quads;   ///< boundary-layer quads (same node-reference rules)
   std::vector<std::array<Vec2, 4>> quadUv;
+  /// Boundary-layer spec (1-based) of each triangle / quad, 0 for the isotropic mesh; empty when
+  /// the face has no layer.
+  std::vector<int> triLayer, quadLayer;
   int rejectedPoints = 0;
   int degenerateDropped = 0;
 };

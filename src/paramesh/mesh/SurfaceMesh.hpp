@@ -29,6 +29,8 @@ struct SurfaceMesh {
   std::vector<int> triangleFace;              ///< #T 1-based CAD face
   std::vector<std::array<int, 4>> quads;      ///< #Q corner nodes
   std::vector<int> quadFace;                  ///< #Q 1-based CAD face
+  std::vector<int> triangleLayer;             ///< #T 1-based boundary-layer spec, 0: none
+  std::vector<int> quadLayer;                 ///< #Q 1-based boundary-layer spec, 0: none
 
   std::vector<std::array<int, 2>> segments;   ///< #S mesh edges on CAD edges (1D elements)
   std::vector<int> segmentEdge;               ///< #S 1-based CAD edge

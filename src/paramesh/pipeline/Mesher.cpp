@@ -653,11 +653,15 @@ struct Mesher::Impl {
     uv.insert(uv.end(), r.newUv.begin(), r.newUv.end());
     r.newXyz = std::move(xyz);
     r.newUv = std::move(uv);
+    r.quadLayer.assign(r.quads.size(), 0);
+    r.triLayer.assign(r.tris.size(), 0);
     r.quads.insert(r.quads.end(), bl.quads.begin(), bl.quads.end());
     r.quadUv.insert(r.quadUv.end(), bl.quadUv.begin(), bl.quadUv.end());
+    for (int sp : bl.quadSpec) r.quadLayer.push_back(sp + 1);
     for (size_t k = 0; k < bl.tris.size(); ++k) {
       r.tris.push_back(bl.tris[k]);
       r.triUv.push_back(bl.triUv[k]);
+      r.triLayer.push_back(bl.triSpec[k] + 1);
     }
     if (r.tris.empty() && r.quads.empty()) {
       r.ok = false;
@@ -746,6 +750,7 @@ struct Mesher::Impl {
         }
         mesh.triangles.push_back(t);
         mesh.triangleFace.push_back(f + 1);
+        mesh.triangleLayer.push_back(k < r.triLayer.size() ? r.triLayer[k] : 0);
         triUv.push_back(uv);
       }
       for (size_t k = 0; k < r.quads.size(); ++k) {
@@ -759,6 +764,7 @@ struct Mesher::Impl {
         }
         mesh.quads.push_back(q);
         mesh.quadFace.push_back(f + 1);
+        mesh.quadLayer.push_back(k < r.quadLayer.size() ? r.quadLayer[k] : 0);
         quadUv.push_back(uv);
       }
       fr.triangles = (int)r.tris.size();
