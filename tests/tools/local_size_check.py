@@ -13,6 +13,15 @@ the face. Measured:
     implied by the median curve, m(d + m(d)) / m(d), at most G (+5 %: the bins' own noise);
   - the distance at which the median size reaches 0.9*H, against the distance a field that grows
     by G per element (dh/dd = G - 1) needs for it: (0.9*H - HL) / (G - 1).
+Also reported (information, not part of the exit status), in the graded zone d < (H - HL)/(G - 1):
+  - cad_edge_segments_over_law: the CAD-edge segments (line elements) against the law
+    HL + (G - 1) d at their midpoints; they are spaced by integrating 1/h of ParaMesh's size field
+    along the edge, so this measures the size field itself;
+  - triangles_over_law: the triangle sizes against the same law at their centroids (what the face
+    mesher makes of the field);
+  - outward_neighbour_growth: for neighbours (sharing an edge) not both on the face, the size of the
+    farther one over the nearer one; neighbour_ratio_on_face: the same scatter where the target is
+    constant (both on the face).
 Prints JSON; exit status 1 when a requirement fails: < 99 % of the face's triangles in range,
 growth above G*1.05, or 0.9*H reached later than 1.5 x the implied distance (or never).
 """
@@ -83,13 +92,18 @@ def main():
     F = X[onf]
     # distance to the face: candidates from a kd-tree of face-triangle centroids, refined exactly
     tree = cKDTree(F.mean(1))
-    k = min(8, len(F))
-    _, idx = tree.query(cen, k=k)
-    idx = idx.reshape(len(cen), -1)
-    dist = np.full(len(cen), np.inf)
-    for j in range(idx.shape[1]):
-        f = F[idx[:, j]]
-        dist = np.minimum(dist, point_triangle_distance(cen, f[:, 0], f[:, 1], f[:, 2]))
+
+    def face_distance(Q):
+        k = min(8, len(F))
+        _, idx = tree.query(Q, k=k)
+        idx = idx.reshape(len(Q), -1)
+        dq = np.full(len(Q), np.inf)
+        for j in range(idx.shape[1]):
+            f = F[idx[:, j]]
+            dq = np.minimum(dq, point_triangle_distance(Q, f[:, 0], f[:, 1], f[:, 2]))
+        return dq
+
+    dist = face_distance(cen)
     dist[onf] = 0.0
     r = size[onf] / a.local
     in_range = float(np.mean((r >= 2 ** -0.5) & (r <= 2 ** 0.5)))
@@ -141,6 +155,42 @@ def main():
                 "neighbour_ratio_p99_in_graded_zone": float(np.percentile(ratio[near], 99)) if near.any() else None,
                 "distance_to_0.9H": reach, "implied_distance_to_0.9H": implied,
                 "bins": [{"distance": d, "median_size": s, "p90_size": p, "n": n} for d, s, p, n in rows]})
+    # the field law itself, h_L + (G-1) d below H (information): the CAD-edge segments (line
+    # elements), which are spaced by integrating 1/h of the size field along the edge, against the
+    # triangles of the graded zone (their size against the law at their centroid distance)
+    dfull = (a.glob - a.local) / (a.grading - 1)
+    law = lambda d: a.local + (a.grading - 1) * d
+    S = [c.data for c in m.cells if c.type == "line"]
+    if S:
+        S = np.concatenate(S).astype(np.int64)
+        sd = face_distance(0.5 * (P[S[:, 0]] + P[S[:, 1]]))
+        sl = np.linalg.norm(P[S[:, 0]] - P[S[:, 1]], axis=1)
+        z = (sd > 0.5 * a.local) & (sd < dfull)
+        if z.any():
+            q = sl[z] / law(sd[z])
+            out["cad_edge_segments_over_law_in_graded_zone"] = {
+                "n": int(z.sum()), "p10": float(np.percentile(q, 10)), "median": float(np.median(q)),
+                "p90": float(np.percentile(q, 90))}
+    z = (~onf) & (dist < dfull)
+    if z.any():
+        q = size[z] / law(dist[z])
+        out["triangles_over_law_in_graded_zone"] = {
+            "n": int(z.sum()), "p1": float(np.percentile(q, 1)), "p10": float(np.percentile(q, 10)),
+            "median": float(np.median(q)), "p90": float(np.percentile(q, 90)), "max": float(q.max())}
+    # growth per element away from the face, pair by pair: for neighbours not both on the face,
+    # the size of the farther one over the nearer one, in the graded zone; the same ratio between
+    # neighbours on the face (constant target) is the mesh's own scatter
+    farther = np.where(dist[t1] <= dist[t2], t2, t1)
+    nearer = np.where(dist[t1] <= dist[t2], t1, t2)
+    zone = (dist[farther] > dist[nearer]) & (dist[nearer] < dfull)
+    both = onf[t1] & onf[t2]
+    if zone.any():
+        gr = size[farther[zone]] / size[nearer[zone]]
+        out["outward_neighbour_growth_in_graded_zone"] = {
+            "pairs": int(zone.sum()), "median": float(np.median(gr)), "p99": float(np.percentile(gr, 99)),
+            "max": float(gr.max())}
+    if both.any():
+        out["neighbour_ratio_on_face"] = {"p99": float(np.percentile(ratio[both], 99)), "max": float(ratio[both].max())}
     ok = in_range >= 0.99 and gmax <= a.grading * 1.05 and reach is not None and reach <= 1.5 * implied
     out["ok"] = bool(ok)
     if a.table:
