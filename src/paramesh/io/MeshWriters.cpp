@@ -3,6 +3,7 @@
 /// MSH 4.1, VTU, STL and INP writers of a SurfaceMesh.
 #include "paramesh/io/MeshWriters.hpp"
 
+#include <cstdio>
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -536,7 +537,10 @@ void writeInp(const std::string& path, const SurfaceMesh& m) {
   out << "*HEADING\nParaMesh surface mesh\n*NODE\n";
   for (std::size_t i = 0; i < m.nodes.size(); ++i) {
     const Vec3& p = m.nodes[i];
-    out << i + 1 << ", " << p.x << ", " << p.y << ", " << p.z << '\n';
+    // CalculiX reads at most 20 characters per number: 12 significant digits always fit
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.12g, %.12g, %.12g", p.x, p.y, p.z);
+    out << i + 1 << ", " << buf << '\n';
   }
   const int T = static_cast<int>(m.triangles.size());
   auto surfKey = [&](int e) {
