@@ -14,6 +14,7 @@
 #include "paramesh/algo/FaceMesher.hpp"
 #include "paramesh/algo/FeatureDetect.hpp"
 #include "paramesh/algo/HighOrder.hpp"
+#include "paramesh/algo/Predicates.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
@@ -587,6 +588,120 @@ struct Mesher::Impl {
     return false;
   }
 
+  /// Hand-off relaxation: the triangles standing on the layers' top edges should be about as tall
+  /// as the last row (the size jump across the front). Interior apex nodes of such triangles move,
+  /// on the surface, towards the point that gives each of their front triangles a height within
+  /// [1/1.3, 1.3] of its row's height, when every triangle around them stays valid and well shaped.
+  void relaxHandoff(const ISurface& s, const FaceBLResult& bl, int offset, std::vector<Vec3>& xyz,
+                    std::vector<Vec2>& uv, const std::vector<std::array<int, 3>>& tris,
+                    std::vector<std::array<Vec2, 3>>& triUv) const {
+    auto P = [&](int r) { return r >= 0 ? mesh.nodes[r] : xyz[-r - 1]; };
+    auto movable = [&](int r) { return r < 0 && -r - 1 >= offset; };
+    // top edges of the layer quads: (a,b) -> row height of the quad below
+    std::map<std::pair<int, int>, std::pair<int, double>> quadEdges;  // key -> (uses, height)
+    for (const auto& q : bl.quads)
+      for (int k = 0; k < 4; ++k) {
+        const int a = q[k], b = q[(k + 1) % 4];
+        const double h = 0.5 * (dist(P(a), P(q[(k + 3) % 4])) + dist(P(b), P(q[(k + 2) % 4])));
+        auto& e = quadEdges[{std::min(a, b), std::max(a, b)}];
+        ++e.first;
+        e.second = h;
+      }
+    std::map<int, std::vector<int>> around;  // movable node -> incident triangles
+    for (size_t t = 0; t < tris.size(); ++t)
+      for (int v : tris[t])
+        if (movable(v)) around[v].push_back((int)t);
+    auto quality = [&](int t) {
+      const Vec3 a = P(tris[t][0]), b = P(tris[t][1]), c = P(tris[t][2]);
+      const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
+      const double area = 0.5 * norm(cross(b - a, c - a));
+      const double prod = la * lb * lc * (la + lb + lc);
+      return prod > 0 ? 16.0 * area * area / prod : 0.0;  // radius ratio 2r/R: 1 for equilateral
+    };
+    for (int pass = 0; pass < 3; ++pass) {
+      std::map<int, std::pair<Vec3, int>> wish;  // apex -> sum of wished positions, count
+      for (size_t t = 0; t < tris.size(); ++t) {
+        const auto& T = tris[t];
+        for (int k = 0; k < 3; ++k) {
+          const int a = T[k], b = T[(k + 1) % 3], c = T[(k + 2) % 3];
+          auto it = quadEdges.find({std::min(a, b), std::max(a, b)});
+          if (it == quadEdges.end() || it->second.first != 1 || !movable(c)) continue;
+          const double hl = it->second.second;
+          const Vec3 A = P(a), B = P(b), C = P(c);
+          const double L = dist(A, B);
+          if (!(L > 0) || !(hl > 0)) continue;
+          const Vec3 e = (1.0 / L) * (B - A);
+          const Vec3 m = 0.5 * (A + B);
+          Vec3 up = (C - m) - dot(C - m, e) * e;  // towards the apex, across the edge
+          const double ht = norm(up);
+          if (!(ht > 0)) continue;
+          up = (1.0 / ht) * up;
+          const double target = std::clamp(ht, hl / 1.25, 1.25 * hl);
+          if (std::fabs(target - ht) < 1e-3 * hl) continue;
+          // keep the apex's position along the edge; change only its height
+          const Vec3 want = C + (target - ht) * up;
+          auto& w = wish[c];
+          w.first += want;
+          ++w.second;
+        }
+      }
+      if (wish.empty()) return;
+      int moved = 0;
+      for (const auto& kv : wish) {
+        const int v = kv.first;
+        const int i = -v - 1;
+        const Vec3 target = (1.0 / kv.second.second) * kv.second.first;
+        const auto& inc = around[v];
+        double before = 1;
+        for (int t : inc) before = std::min(before, quality(t));
+        const Vec3 x0 = xyz[i];
+        const Vec2 u0 = uv[i];
+        for (double step : {1.0, 0.5, 0.25}) {
+          // one Newton step on the surface towards x0 + step * (target - x0)
+          Vec3 p, du, dv;
+          s.d1(u0, p, du, dv);
+          const Vec3 d = step * (target - x0);
+          const double a11 = dot(du, du), a12 = dot(du, dv), a22 = dot(dv, dv);
+          const double det = a11 * a22 - a12 * a12;
+          if (!(std::fabs(det) > 0)) break;
+          const double r1 = dot(du, d), r2 = dot(dv, d);
+          const Vec2 nu{u0.x + (a22 * r1 - a12 * r2) / det, u0.y + (a11 * r2 - a12 * r1) / det};
+          xyz[i] = s.eval(nu);
+          uv[i] = nu;
+          bool ok = true;
+          double after = 1;
+          for (int t : inc) {
+            std::array<Vec2, 3> tu = triUv[t];
+            for (int k = 0; k < 3; ++k)
+              if (tris[t][k] == v) tu[k] = tu[k] + (nu - u0);
+            if (area2(tu[0], tu[1], tu[2]) <= 0) {
+              ok = false;
+              break;
+            }
+            const Vec3 A = P(tris[t][0]), B = P(tris[t][1]), C = P(tris[t][2]);
+            Vec3 q, su, sv;
+            s.d1((1.0 / 3) * (tu[0] + tu[1] + tu[2]), q, su, sv);
+            if (dot(cross(B - A, C - A), cross(su, sv)) <= 0) {
+              ok = false;
+              break;
+            }
+            after = std::min(after, quality(t));
+          }
+          if (ok && after >= std::min(before, 0.5)) {  // never below 0.5 unless it was already
+            for (int t : inc)
+              for (int k = 0; k < 3; ++k)
+                if (tris[t][k] == v) triUv[t][k] = triUv[t][k] + (nu - u0);
+            ++moved;
+            break;
+          }
+          xyz[i] = x0;
+          uv[i] = u0;
+        }
+      }
+      if (!moved) return;
+    }
+  }
+
   FaceMeshResult meshFaceWithLayers(int f, const ISurface& s, const FaceBoundary& fb, FaceMeshOptions fo) {
     std::vector<std::vector<LoopPoint>> loops;
     for (const auto& L : fb.loops) {
@@ -651,6 +766,7 @@ struct Mesher::Impl {
     }
     xyz.insert(xyz.end(), r.newXyz.begin(), r.newXyz.end());
     uv.insert(uv.end(), r.newUv.begin(), r.newUv.end());
+    if (!inner.loops.empty()) relaxHandoff(s, bl, (int)bl.nodes.size(), xyz, uv, r.tris, r.triUv);
     r.newXyz = std::move(xyz);
     r.newUv = std::move(uv);
     r.quadLayer.assign(r.quads.size(), 0);
