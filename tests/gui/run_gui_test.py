@@ -423,7 +423,8 @@ def step_cancel(doc, wing):
     stage = panel.run.runner.stage
     t0 = time.perf_counter()
     panel.run.cancel_button.click()
-    stopped = wait_until(lambda: not panel.run.running, 10, step=5)
+    # the worker stops first; the panel learns it through a queued signal (or its 200 ms timer)
+    stopped = wait_until(lambda: not panel.run.running and panel.run.state != "running", 10, step=5)
     dt = time.perf_counter() - t0
     METRICS["cancel_seconds"] = round(dt, 3)
     check("cancel takes effect quickly (< 1 s)", stopped and panel.run.state == "cancelled" and dt < 1.0,
