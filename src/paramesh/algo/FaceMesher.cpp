@@ -333,6 +333,33 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     refineFolded(T, C);
     Optimizer O(T, C, progress);
     O.run(opt.optimizePasses);
+    if (opt.optimizePasses > 0 && O.countPoorAngles() > 0) {
+      // Slivers standing on boundary nodes (narrow parts of the face, next to short segments):
+      // split their longest free edge and optimise again. Two variants from the same start
+      // (triangles on three boundary nodes only, or also on two); the one leaving the fewest
+      // triangles with an angle below 30 degrees is kept, and only if it has fewer than before.
+      int best = O.countPoorAngles();
+      const Triangulation start = T;
+      Triangulation kept;
+      bool improved = false;
+      for (int minBoundary : {3, 2}) {
+        if (minBoundary != 3) T = start;
+        if (O.splitBoundarySlivers(minBoundary) == 0) continue;
+        for (int p = 0; p < 3; ++p) {
+          const int f = O.swapPass();
+          const int m = O.smoothPass();
+          if (f == 0 && m == 0) break;
+        }
+        O.swapPass();
+        const int c = O.countPoorAngles();
+        if (c < best) {
+          best = c;
+          kept = T;
+          improved = true;
+        }
+      }
+      T = improved ? std::move(kept) : start;
+    }
     if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
       O.smoothPass();
       O.swapPass();

@@ -468,6 +468,68 @@ int Optimizer::repairFrontApexes(double ratio) {
   return moved;
 }
 
+namespace {
+/// sin of the smallest 3D angle of (a,b,c): 2 area / (product of the two longest sides)
+double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) {
+  const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
+  const double ar2 = norm(cross(b - a, c - a));
+  const double mx = std::max({la, lb, lc}), mn = std::min({la, lb, lc});
+  const double mid = la + lb + lc - mx - mn;
+  return mx > 0 && mid > 0 ? ar2 / (mx * mid) : 0.0;
+}
+}  // namespace
+
+bool Optimizer::poorAngle(int t) const {
+  const Triangle& tr = T_.tris[t];
+  const TriVertex &a = T_.verts[tr.v[0]], &b = T_.verts[tr.v[1]], &c = T_.verts[tr.v[2]];
+  if ((a.flags | b.flags | c.flags) & VF_POLE) {
+    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return false;
+  }
+  return sinMinAngle(a.xyz, b.xyz, c.xyz) < 0.5;  // smallest angle below 30 degrees
+}
+
+int Optimizer::countPoorAngles() const {
+  int n = 0;
+  for (int t = 0; t < (int)T_.tris.size(); ++t)
+    if (!T_.tris[t].dead && poorAngle(t)) ++n;
+  return n;
+}
+
+int Optimizer::splitBoundarySlivers(int minBoundary) {
+  std::vector<int> cands;
+  for (int t = 0; t < (int)T_.tris.size(); ++t) {
+    const Triangle& tr = T_.tris[t];
+    if (tr.dead) continue;
+    int nb = 0;
+    for (int k = 0; k < 3; ++k)
+      if (T_.verts[tr.v[k]].flags & VF_BOUNDARY) ++nb;
+    const bool onBoundary = nb >= minBoundary;
+    if (onBoundary && poorAngle(t)) cands.push_back(t);
+  }
+  int splits = 0;
+  for (int t : cands) {
+    if (T_.tris[t].dead) continue;
+    const Triangle& tr = T_.tris[t];
+    int nb = 0;
+    for (int k = 0; k < 3; ++k)
+      if (T_.verts[tr.v[k]].flags & VF_BOUNDARY) ++nb;
+    const bool onBoundary = nb >= minBoundary;
+    if (!onBoundary || !poorAngle(t)) continue;
+    int best = -1;
+    double bl = -1;
+    for (int i = 0; i < 3; ++i) {
+      if (T_.isConstrained(t, i) || tr.n[i] < 0) continue;
+      const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
+      if (l > bl) {
+        bl = l;
+        best = i;
+      }
+    }
+    if (best >= 0 && splitEdge(t, best) >= 0) ++splits;
+  }
+  return splits;
+}
+
 void Optimizer::run(int passes) {
   if (passes <= 0) return;
   splitPass(1.6);
