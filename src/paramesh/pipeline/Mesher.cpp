@@ -293,10 +293,11 @@ struct Mesher::Impl {
     });
     };
     discretizeAll();
-    // Chains of CAD edges much shorter than the size field (each forced to one segment: a finely
-    // detailed boundary) become size sources, and the edges are discretised again: the
-    // neighbouring edges and the face interiors grade down to them instead of standing long thin
-    // triangles on them. Short edges that close a narrow strip are left alone.
+    // CAD edges much shorter than the size field, in chains (a finely detailed boundary) or split
+    // into 3+ segments by the turning limit (tight arcs), become size sources at their segment
+    // lengths, and the edges are discretised again: the neighbouring edges and the face interiors
+    // grade down to them instead of standing long thin triangles on them. Short edges that close
+    // a narrow strip are left alone (refining there only multiplies the strip's slivers).
     if (p.shortEdgeSources && blLaws.empty()) {
       // nodes of every edge, and the edges at each (representative) vertex
       std::vector<std::vector<Vec3>> pts(ne);
@@ -362,10 +363,10 @@ struct Mesher::Impl {
       };
       std::vector<char> isShort(ne, 0);
       for (int e = 0; e < ne; ++e) {
-        if (pts[e].size() != 2) continue;  // short CAD edges: one segment
-        const double l = dist(pts[e][0], pts[e][1]);
-        const double hf = field.size(0.5 * (pts[e][0] + pts[e][1]));
-        isShort[e] = l > 0 && l < kShortSegment * hf && !closesStrip(e, l);
+        if (pts[e].size() < 2) continue;
+        const double L = polyLength(e);
+        const double hf = field.size(pts[e][pts[e].size() / 2]);
+        isShort[e] = L > 0 && L < kShortSegment * hf && !closesStrip(e, L);
       }
       // a short edge next to another short edge: a finely detailed boundary (one isolated short
       // edge costs a few poor triangles; refining around it would cost hundreds of elements)
@@ -380,15 +381,16 @@ struct Mesher::Impl {
       };
       std::vector<std::vector<SizeSource>> found(ne);
       parallelFor(ne, threads, [&](int e) {
-        if (!isShort[e]) return;
-        const Vec3 a = pts[e][0], b = pts[e][1];
-        const double l = dist(a, b);
-        const Vec3 m = 0.5 * (a + b);
-        if (!inChain(e)) return;
-        const double hs = std::max(l, p.minSize);
-        found[e].push_back({a, hs});
-        found[e].push_back({m, hs});
-        found[e].push_back({b, hs});
+        // a short edge on its own counts when the turning limit split it into three segments or
+        // more: a tight arc (small rounded feature) rather than a mere short chord
+        if (!isShort[e] || !(inChain(e) || pts[e].size() > 3)) return;
+        const auto& P = pts[e];
+        for (size_t i = 1; i < P.size(); ++i) {
+          const double hs = std::max(dist(P[i - 1], P[i]), p.minSize);
+          if (i == 1) found[e].push_back({P[0], hs});
+          found[e].push_back({0.5 * (P[i - 1] + P[i]), hs});
+          found[e].push_back({P[i], hs});
+        }
       });
       size_t added = 0;
       for (const auto& v : found)
