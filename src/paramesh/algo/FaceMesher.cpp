@@ -16,6 +16,7 @@
 namespace paramesh {
 namespace {
 
+constexpr int kSliverRounds = 2;
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
 
@@ -333,18 +334,21 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     refineFolded(T, C);
     Optimizer O(T, C, progress);
     O.run(opt.optimizePasses);
-    if (opt.optimizePasses > 0 && O.countPoorAngles() > 0) {
-      // Slivers standing on boundary nodes (narrow parts of the face, next to short segments):
-      // split their longest free edge and optimise again. Two variants from the same start
-      // (triangles on three boundary nodes only, or also on two); the one leaving the fewest
-      // triangles with an angle below 30 degrees is kept, and only if it has fewer than before.
+    // Triangles with an angle below 30 degrees that the optimiser left: slivers standing on
+    // boundary nodes (narrow parts of the face, next to short segments) and caps whose free apex
+    // sits almost on the opposite edge. Three variants from the same start: split the longest
+    // free edge of the poor triangles on three boundary nodes, or on two, or collapse the free
+    // apex of the poor triangles; each is re-optimised, and the one leaving the fewest poor
+    // triangles is kept only if it has fewer than before. Up to kSliverRounds rounds.
+    for (int round = 0; opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
       int best = O.countPoorAngles();
+      if (best == 0) break;
       const Triangulation start = T;
       Triangulation kept;
       bool improved = false;
-      for (int minBoundary : {3, 2}) {
-        if (minBoundary != 3) T = start;
-        if (O.splitBoundarySlivers(minBoundary) == 0) continue;
+      for (int variant : {3, 2, 0}) {
+        if (variant != 3) T = start;
+        if ((variant > 0 ? O.splitBoundarySlivers(variant) : O.collapsePoorApexes()) == 0) continue;
         for (int p = 0; p < 3; ++p) {
           const int f = O.swapPass();
           const int m = O.smoothPass();
@@ -359,6 +363,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         }
       }
       T = improved ? std::move(kept) : start;
+      if (!improved) break;
     }
     if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
       O.smoothPass();

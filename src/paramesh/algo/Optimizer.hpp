@@ -39,6 +39,9 @@ class Optimizer {
   /// Splits the longest free edge of every triangle with at least minBoundary vertices on the
   /// boundary and a smallest angle below 30 degrees. Returns the number of splits.
   int splitBoundarySlivers(int minBoundary = 3);
+  /// Collapses the free vertex at the largest angle of every triangle with an angle below 30
+  /// degrees onto a neighbour (shorter edge first) when the ring stays valid. Returns the number.
+  int collapsePoorApexes();
   /// The default schedule: split/collapse, then alternate swaps and smoothing.
   void run(int passes);
 
