@@ -17,6 +17,7 @@ namespace paramesh {
 namespace {
 
 constexpr int kSliverRounds = 2;
+constexpr bool kPerCandidate = true;
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
 
@@ -364,6 +365,33 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       }
       T = improved ? std::move(kept) : start;
       if (!improved) break;
+    }
+    // What the batches left, one triangle at a time (faces small enough for a whole-face count
+    // per trial): split, else collapse, kept only when the face has fewer poor triangles after.
+    if (opt.optimizePasses > 0 && kPerCandidate) {
+      std::vector<int> cands;
+      for (int t = 0; t < (int)T.tris.size(); ++t)
+        if (!T.tris[t].dead && O.poorAngle(t)) cands.push_back(t);
+      if (!cands.empty() && (double)cands.size() * (double)T.tris.size() <= 4e6) {
+        int poor = O.countPoorAngles();
+        for (int t : cands) {
+          if (T.tris[t].dead || !O.poorAngle(t)) continue;
+          for (int action = 0; action < 2; ++action) {
+            Triangulation backup = T;
+            const bool done = action == 0 ? O.splitLongestFree(t) >= 0 : O.collapseApex(t);
+            if (!done) continue;
+            O.swapPass();
+            O.smoothPass();
+            O.swapPass();
+            const int c = O.countPoorAngles();
+            if (c < poor) {
+              poor = c;
+              break;
+            }
+            T = std::move(backup);
+          }
+        }
+      }
     }
     if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
       O.smoothPass();

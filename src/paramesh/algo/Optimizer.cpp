@@ -495,37 +495,36 @@ int Optimizer::countPoorAngles() const {
   return n;
 }
 
+int Optimizer::boundaryVertices(int t) const {
+  int nb = 0;
+  for (int k = 0; k < 3; ++k)
+    if (T_.verts[T_.tris[t].v[k]].flags & VF_BOUNDARY) ++nb;
+  return nb;
+}
+
+int Optimizer::splitLongestFree(int t) {
+  const Triangle& tr = T_.tris[t];
+  int best = -1;
+  double bl = -1;
+  for (int i = 0; i < 3; ++i) {
+    if (T_.isConstrained(t, i) || tr.n[i] < 0) continue;
+    const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
+    if (l > bl) {
+      bl = l;
+      best = i;
+    }
+  }
+  return best >= 0 ? splitEdge(t, best) : -1;
+}
+
 int Optimizer::splitBoundarySlivers(int minBoundary) {
   std::vector<int> cands;
-  for (int t = 0; t < (int)T_.tris.size(); ++t) {
-    const Triangle& tr = T_.tris[t];
-    if (tr.dead) continue;
-    int nb = 0;
-    for (int k = 0; k < 3; ++k)
-      if (T_.verts[tr.v[k]].flags & VF_BOUNDARY) ++nb;
-    const bool onBoundary = nb >= minBoundary;
-    if (onBoundary && poorAngle(t)) cands.push_back(t);
-  }
+  for (int t = 0; t < (int)T_.tris.size(); ++t)
+    if (!T_.tris[t].dead && boundaryVertices(t) >= minBoundary && poorAngle(t)) cands.push_back(t);
   int splits = 0;
   for (int t : cands) {
-    if (T_.tris[t].dead) continue;
-    const Triangle& tr = T_.tris[t];
-    int nb = 0;
-    for (int k = 0; k < 3; ++k)
-      if (T_.verts[tr.v[k]].flags & VF_BOUNDARY) ++nb;
-    const bool onBoundary = nb >= minBoundary;
-    if (!onBoundary || !poorAngle(t)) continue;
-    int best = -1;
-    double bl = -1;
-    for (int i = 0; i < 3; ++i) {
-      if (T_.isConstrained(t, i) || tr.n[i] < 0) continue;
-      const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
-      if (l > bl) {
-        bl = l;
-        best = i;
-      }
-    }
-    if (best >= 0 && splitEdge(t, best) >= 0) ++splits;
+    if (T_.tris[t].dead || boundaryVertices(t) < minBoundary || !poorAngle(t)) continue;
+    if (splitLongestFree(t) >= 0) ++splits;
   }
   return splits;
 }
@@ -535,45 +534,45 @@ int Optimizer::collapsePoorApexes() {
   for (int t = 0; t < (int)T_.tris.size(); ++t)
     if (!T_.tris[t].dead && poorAngle(t)) cands.push_back(t);
   int n = 0;
-  for (int t : cands) {
-    if (T_.tris[t].dead || !poorAngle(t)) continue;
-    const Triangle& tr = T_.tris[t];
-    // the vertex with the largest angle (a cap standing on the opposite edge)
-    int k = -1;
-    double bestCos = 2;
-    for (int j = 0; j < 3; ++j) {
-      const Vec3 p = T_.verts[tr.v[j]].xyz;
-      const Vec3 u = normalized(T_.verts[tr.v[nx(j)]].xyz - p), w = normalized(T_.verts[tr.v[pv(j)]].xyz - p);
-      const double c = dot(u, w);
-      if (c < bestCos) {
-        bestCos = c;
-        k = j;
-      }
-    }
-    const int vk = tr.v[k];
-    if (T_.verts[vk].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) continue;
-    // its two edges in t, shorter first
-    int e1 = nx(k), e2 = pv(k);  // edge e contains k when e != k
-    const double l1 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e1)] == vk ? tr.v[nx(e1)] : tr.v[pv(e1)]].xyz);
-    const double l2 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e2)] == vk ? tr.v[nx(e2)] : tr.v[pv(e2)]].xyz);
-    if (l2 < l1) std::swap(e1, e2);
-    for (int i : {e1, e2}) {
-      const Triangle& R = T_.tris[t];
-      if (T_.isConstrained(t, i)) continue;
-      int tt = t, ii = i;
-      if (R.v[nx(i)] != vk) {
-        tt = R.n[i];
-        if (tt < 0) continue;
-        ii = T_.edgeTo(tt, t);
-        if (ii < 0 || T_.tris[tt].v[nx(ii)] != vk) continue;
-      }
-      if (collapse(tt, ii)) {
-        ++n;
-        break;
-      }
+  for (int t : cands)
+    if (!T_.tris[t].dead && poorAngle(t) && collapseApex(t)) ++n;
+  return n;
+}
+
+bool Optimizer::collapseApex(int t) {
+  const Triangle& tr = T_.tris[t];
+  // the vertex with the largest angle (a cap standing on the opposite edge)
+  int k = -1;
+  double bestCos = 2;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 p = T_.verts[tr.v[j]].xyz;
+    const Vec3 u = normalized(T_.verts[tr.v[nx(j)]].xyz - p), w = normalized(T_.verts[tr.v[pv(j)]].xyz - p);
+    const double c = dot(u, w);
+    if (c < bestCos) {
+      bestCos = c;
+      k = j;
     }
   }
-  return n;
+  const int vk = tr.v[k];
+  if (T_.verts[vk].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) return false;
+  // its two edges in t, shorter first
+  int e1 = nx(k), e2 = pv(k);  // edge e contains k when e != k
+  const double l1 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e1)] == vk ? tr.v[nx(e1)] : tr.v[pv(e1)]].xyz);
+  const double l2 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e2)] == vk ? tr.v[nx(e2)] : tr.v[pv(e2)]].xyz);
+  if (l2 < l1) std::swap(e1, e2);
+  for (int i : {e1, e2}) {
+    const Triangle& R = T_.tris[t];
+    if (T_.isConstrained(t, i)) continue;
+    int tt = t, ii = i;
+    if (R.v[nx(i)] != vk) {
+      tt = R.n[i];
+      if (tt < 0) continue;
+      ii = T_.edgeTo(tt, t);
+      if (ii < 0 || T_.tris[tt].v[nx(ii)] != vk) continue;
+    }
+    if (collapse(tt, ii)) return true;
+  }
+  return false;
 }
 
 void Optimizer::run(int passes) {

@@ -42,6 +42,12 @@ class Optimizer {
   /// Collapses the free vertex at the largest angle of every triangle with an angle below 30
   /// degrees onto a neighbour (shorter edge first) when the ring stays valid. Returns the number.
   int collapsePoorApexes();
+  /// collapsePoorApexes() for one triangle; true when a vertex was collapsed.
+  bool collapseApex(int t);
+  /// Splits the longest free edge of t; returns the new vertex or -1.
+  int splitLongestFree(int t);
+  /// Number of vertices of t on the boundary.
+  int boundaryVertices(int t) const;
   /// The default schedule: split/collapse, then alternate swaps and smoothing.
   void run(int passes);
 
