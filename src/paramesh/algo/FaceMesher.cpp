@@ -16,8 +16,9 @@
 namespace paramesh {
 namespace {
 
-constexpr int kSliverRounds = 2;
+constexpr int kSliverRounds = 1;
 constexpr bool kPerCandidate = true;
+constexpr double kPerCandidateBudget = 1e6;  // candidates x face triangles
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
 
@@ -340,7 +341,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     // sits almost on the opposite edge. Three variants from the same start: split the longest
     // free edge of the poor triangles on three boundary nodes, or on two, or collapse the free
     // apex of the poor triangles; each is re-optimised, and the one leaving the fewest poor
-    // triangles is kept only if it has fewer than before. Up to kSliverRounds rounds.
+    // triangles is kept only if it has fewer than before.
     for (int round = 0; opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
       int best = O.countPoorAngles();
       if (best == 0) break;
@@ -372,7 +373,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       std::vector<int> cands;
       for (int t = 0; t < (int)T.tris.size(); ++t)
         if (!T.tris[t].dead && O.poorAngle(t)) cands.push_back(t);
-      if (!cands.empty() && (double)cands.size() * (double)T.tris.size() <= 4e6) {
+      if (!cands.empty() && (double)cands.size() * (double)T.tris.size() <= kPerCandidateBudget) {
         int poor = O.countPoorAngles();
         for (int t : cands) {
           if (T.tris[t].dead || !O.poorAngle(t)) continue;
