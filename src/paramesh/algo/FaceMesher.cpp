@@ -16,6 +16,9 @@
 namespace paramesh {
 namespace {
 
+constexpr int kSliverRounds = 1;
+constexpr bool kPerCandidate = true;
+constexpr double kPerCandidateBudget = 1e6;  // candidates x face triangles
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
 
@@ -333,6 +336,64 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     refineFolded(T, C);
     Optimizer O(T, C, progress);
     O.run(opt.optimizePasses);
+    // Triangles with an angle below 30 degrees that the optimiser left: slivers standing on
+    // boundary nodes (narrow parts of the face, next to short segments) and caps whose free apex
+    // sits almost on the opposite edge. Three variants from the same start: split the longest
+    // free edge of the poor triangles on three boundary nodes, or on two, or collapse the free
+    // apex of the poor triangles; each is re-optimised, and the one leaving the fewest poor
+    // triangles is kept only if it has fewer than before.
+    for (int round = 0; opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
+      int best = O.countPoorAngles();
+      if (best == 0) break;
+      const Triangulation start = T;
+      Triangulation kept;
+      bool improved = false;
+      for (int variant : {3, 2, 0}) {
+        if (variant != 3) T = start;
+        if ((variant > 0 ? O.splitBoundarySlivers(variant) : O.collapsePoorApexes()) == 0) continue;
+        for (int p = 0; p < 3; ++p) {
+          const int f = O.swapPass();
+          const int m = O.smoothPass();
+          if (f == 0 && m == 0) break;
+        }
+        O.swapPass();
+        const int c = O.countPoorAngles();
+        if (c < best) {
+          best = c;
+          kept = T;
+          improved = true;
+        }
+      }
+      T = improved ? std::move(kept) : start;
+      if (!improved) break;
+    }
+    // What the batches left, one triangle at a time (faces small enough for a whole-face count
+    // per trial): split, else collapse, kept only when the face has fewer poor triangles after.
+    if (opt.optimizePasses > 0 && kPerCandidate) {
+      std::vector<int> cands;
+      for (int t = 0; t < (int)T.tris.size(); ++t)
+        if (!T.tris[t].dead && O.poorAngle(t)) cands.push_back(t);
+      if (!cands.empty() && (double)cands.size() * (double)T.tris.size() <= kPerCandidateBudget) {
+        int poor = O.countPoorAngles();
+        for (int t : cands) {
+          if (T.tris[t].dead || !O.poorAngle(t)) continue;
+          for (int action = 0; action < 2; ++action) {
+            Triangulation backup = T;
+            const bool done = action == 0 ? O.splitLongestFree(t) >= 0 : O.collapseApex(t);
+            if (!done) continue;
+            O.swapPass();
+            O.smoothPass();
+            O.swapPass();
+            const int c = O.countPoorAngles();
+            if (c < poor) {
+              poor = c;
+              break;
+            }
+            T = std::move(backup);
+          }
+        }
+      }
+    }
     if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
       O.smoothPass();
       O.swapPass();

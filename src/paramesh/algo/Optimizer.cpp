@@ -468,6 +468,113 @@ int Optimizer::repairFrontApexes(double ratio) {
   return moved;
 }
 
+namespace {
+/// sin of the smallest 3D angle of (a,b,c): 2 area / (product of the two longest sides)
+double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) {
+  const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
+  const double ar2 = norm(cross(b - a, c - a));
+  const double mx = std::max({la, lb, lc}), mn = std::min({la, lb, lc});
+  const double mid = la + lb + lc - mx - mn;
+  return mx > 0 && mid > 0 ? ar2 / (mx * mid) : 0.0;
+}
+}  // namespace
+
+bool Optimizer::poorAngle(int t) const {
+  const Triangle& tr = T_.tris[t];
+  const TriVertex &a = T_.verts[tr.v[0]], &b = T_.verts[tr.v[1]], &c = T_.verts[tr.v[2]];
+  if ((a.flags | b.flags | c.flags) & VF_POLE) {
+    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return false;
+  }
+  return sinMinAngle(a.xyz, b.xyz, c.xyz) < 0.5;  // smallest angle below 30 degrees
+}
+
+int Optimizer::countPoorAngles() const {
+  int n = 0;
+  for (int t = 0; t < (int)T_.tris.size(); ++t)
+    if (!T_.tris[t].dead && poorAngle(t)) ++n;
+  return n;
+}
+
+int Optimizer::boundaryVertices(int t) const {
+  int nb = 0;
+  for (int k = 0; k < 3; ++k)
+    if (T_.verts[T_.tris[t].v[k]].flags & VF_BOUNDARY) ++nb;
+  return nb;
+}
+
+int Optimizer::splitLongestFree(int t) {
+  const Triangle& tr = T_.tris[t];
+  int best = -1;
+  double bl = -1;
+  for (int i = 0; i < 3; ++i) {
+    if (T_.isConstrained(t, i) || tr.n[i] < 0) continue;
+    const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
+    if (l > bl) {
+      bl = l;
+      best = i;
+    }
+  }
+  return best >= 0 ? splitEdge(t, best) : -1;
+}
+
+int Optimizer::splitBoundarySlivers(int minBoundary) {
+  std::vector<int> cands;
+  for (int t = 0; t < (int)T_.tris.size(); ++t)
+    if (!T_.tris[t].dead && boundaryVertices(t) >= minBoundary && poorAngle(t)) cands.push_back(t);
+  int splits = 0;
+  for (int t : cands) {
+    if (T_.tris[t].dead || boundaryVertices(t) < minBoundary || !poorAngle(t)) continue;
+    if (splitLongestFree(t) >= 0) ++splits;
+  }
+  return splits;
+}
+
+int Optimizer::collapsePoorApexes() {
+  std::vector<int> cands;
+  for (int t = 0; t < (int)T_.tris.size(); ++t)
+    if (!T_.tris[t].dead && poorAngle(t)) cands.push_back(t);
+  int n = 0;
+  for (int t : cands)
+    if (!T_.tris[t].dead && poorAngle(t) && collapseApex(t)) ++n;
+  return n;
+}
+
+bool Optimizer::collapseApex(int t) {
+  const Triangle& tr = T_.tris[t];
+  // the vertex with the largest angle (a cap standing on the opposite edge)
+  int k = -1;
+  double bestCos = 2;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3 p = T_.verts[tr.v[j]].xyz;
+    const Vec3 u = normalized(T_.verts[tr.v[nx(j)]].xyz - p), w = normalized(T_.verts[tr.v[pv(j)]].xyz - p);
+    const double c = dot(u, w);
+    if (c < bestCos) {
+      bestCos = c;
+      k = j;
+    }
+  }
+  const int vk = tr.v[k];
+  if (T_.verts[vk].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) return false;
+  // its two edges in t, shorter first
+  int e1 = nx(k), e2 = pv(k);  // edge e contains k when e != k
+  const double l1 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e1)] == vk ? tr.v[nx(e1)] : tr.v[pv(e1)]].xyz);
+  const double l2 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e2)] == vk ? tr.v[nx(e2)] : tr.v[pv(e2)]].xyz);
+  if (l2 < l1) std::swap(e1, e2);
+  for (int i : {e1, e2}) {
+    const Triangle& R = T_.tris[t];
+    if (T_.isConstrained(t, i)) continue;
+    int tt = t, ii = i;
+    if (R.v[nx(i)] != vk) {
+      tt = R.n[i];
+      if (tt < 0) continue;
+      ii = T_.edgeTo(tt, t);
+      if (ii < 0 || T_.tris[tt].v[nx(ii)] != vk) continue;
+    }
+    if (collapse(tt, ii)) return true;
+  }
+  return false;
+}
+
 void Optimizer::run(int passes) {
   if (passes <= 0) return;
   splitPass(1.6);

@@ -33,6 +33,21 @@ class Optimizer {
   /// whose height is below `ratio` x the equilateral height of the local size: their apex (when
   /// free) moves towards the ideal position if the ring stays valid. Returns the number of moves.
   int repairFrontApexes(double ratio);
+  /// True when the smallest 3D angle of triangle t is below 30 degrees (pole triangles: false).
+  bool poorAngle(int t) const;
+  int countPoorAngles() const;
+  /// Splits the longest free edge of every triangle with at least minBoundary vertices on the
+  /// boundary and a smallest angle below 30 degrees. Returns the number of splits.
+  int splitBoundarySlivers(int minBoundary = 3);
+  /// Collapses the free vertex at the largest angle of every triangle with an angle below 30
+  /// degrees onto a neighbour (shorter edge first) when the ring stays valid. Returns the number.
+  int collapsePoorApexes();
+  /// collapsePoorApexes() for one triangle; true when a vertex was collapsed.
+  bool collapseApex(int t);
+  /// Splits the longest free edge of t; returns the new vertex or -1.
+  int splitLongestFree(int t);
+  /// Number of vertices of t on the boundary.
+  int boundaryVertices(int t) const;
   /// The default schedule: split/collapse, then alternate swaps and smoothing.
   void run(int passes);
 

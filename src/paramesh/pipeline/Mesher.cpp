@@ -38,6 +38,8 @@ const char* toString(RunStatus s) {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// CAD edges shorter than this fraction of the size field (one segment) may become size sources
+constexpr double kShortSegment = 0.5;
 
 struct EdgeMesh {
   std::vector<double> t;
@@ -256,6 +258,7 @@ struct Mesher::Impl {
     const int ne = model.numEdges();
     std::vector<std::vector<double>> ts(ne);
     std::vector<char> degen(ne, 0);
+    auto discretizeAll = [&]() {
     parallelFor(ne, threads, [&](int e) {
       progress.poll();
       double t0, t1;
@@ -289,6 +292,118 @@ struct Mesher::Impl {
       const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
       ts[e] = discretizeCurve(cs, f, closed ? 3 : 1, kPi / 3.0);
     });
+    };
+    discretizeAll();
+    // CAD edges much shorter than the size field, in chains (a finely detailed boundary) or split
+    // into 3+ segments by the turning limit (tight arcs), become size sources at their segment
+    // lengths, and the edges are discretised again: the neighbouring edges and the face interiors
+    // grade down to them instead of standing long thin triangles on them. Short edges that close
+    // a narrow strip are left alone (refining there only multiplies the strip's slivers).
+    if (p.shortEdgeSources && blLaws.empty()) {
+      // nodes of every edge, and the edges at each (representative) vertex
+      std::vector<std::vector<Vec3>> pts(ne);
+      parallelFor(ne, threads, [&](int e) {
+        if (degen[e] || same.edgeRep[e] != e || ts[e].size() < 2) return;
+        auto c = model.makeCurve(e);
+        for (double t : ts[e]) pts[e].push_back(c->eval(t));
+      });
+      std::vector<std::vector<std::pair<int, int>>> atVertex(model.numVertices());  // (edge, end)
+      for (int e = 0; e < ne; ++e) {
+        if (pts[e].empty()) continue;
+        for (int k = 0; k < 2; ++k) {
+          const int v = model.edgeVertex(e, k);
+          if (v >= 0) atVertex[same.vertexRep[v]].push_back({e, k});
+        }
+      }
+      auto polyLength = [&](int e) {
+        double L = 0;
+        for (size_t i = 1; i < pts[e].size(); ++i) L += dist(pts[e][i - 1], pts[e][i]);
+        return L;
+      };
+      auto distToPoly = [&](Vec3 x, int e) {
+        double best = 1e300;
+        const auto& P = pts[e];
+        for (size_t i = 1; i < P.size(); ++i) {
+          const Vec3 d = P[i] - P[i - 1];
+          const double dd = dot(d, d);
+          const double w = dd > 0 ? std::clamp(dot(x - P[i - 1], d) / dd, 0.0, 1.0) : 0.0;
+          best = std::min(best, dist(x, P[i - 1] + w * d));
+        }
+        return best;
+      };
+      // point of edge e at about arc length s from its end k
+      auto along = [&](int e, int k, double sArc) {
+        const auto& P = pts[e];
+        const int n = (int)P.size();
+        double acc = 0;
+        for (int i = 1; i < n; ++i) {
+          const Vec3 x0 = k == 0 ? P[i - 1] : P[n - i], x1 = k == 0 ? P[i] : P[n - 1 - i];
+          const double l = dist(x0, x1);
+          if (acc + l >= sArc && l > 0) return x0 + ((sArc - acc) / l) * (x1 - x0);
+          acc += l;
+        }
+        return k == 0 ? P.back() : P.front();
+      };
+      // A short edge closing a narrow strip (the end of a thin face: its neighbours run on side by
+      // side at about its length) is no small feature: refining there only multiplies the
+      // strip's slivers.
+      auto closesStrip = [&](int e, double l) {
+        const int va = model.edgeVertex(e, 0), vb = model.edgeVertex(e, 1);
+        if (va < 0 || vb < 0) return false;
+        for (const auto& ea : atVertex[same.vertexRep[va]]) {
+          if (ea.first == e) continue;
+          const double La = polyLength(ea.first);
+          if (La < 3 * l) continue;
+          const Vec3 x = along(ea.first, ea.second, std::min(0.5 * La, 3 * l));
+          for (const auto& eb : atVertex[same.vertexRep[vb]]) {
+            if (eb.first == e || eb.first == ea.first) continue;
+            if (distToPoly(x, eb.first) < 1.5 * l) return true;
+          }
+        }
+        return false;
+      };
+      std::vector<char> isShort(ne, 0);
+      for (int e = 0; e < ne; ++e) {
+        if (pts[e].size() < 2) continue;
+        const double L = polyLength(e);
+        const double hf = field.size(pts[e][pts[e].size() / 2]);
+        isShort[e] = L > 0 && L < kShortSegment * hf && !closesStrip(e, L);
+      }
+      // a short edge next to another short edge: a finely detailed boundary (one isolated short
+      // edge costs a few poor triangles; refining around it would cost hundreds of elements)
+      auto inChain = [&](int e) {
+        for (int k = 0; k < 2; ++k) {
+          const int v = model.edgeVertex(e, k);
+          if (v < 0) continue;
+          for (const auto& ev : atVertex[same.vertexRep[v]])
+            if (ev.first != e && isShort[ev.first]) return true;
+        }
+        return false;
+      };
+      std::vector<std::vector<SizeSource>> found(ne);
+      parallelFor(ne, threads, [&](int e) {
+        // a short edge on its own counts when the turning limit split it into three segments or
+        // more: a tight arc (small rounded feature) rather than a mere short chord
+        if (!isShort[e] || !(inChain(e) || pts[e].size() > 3)) return;
+        const auto& P = pts[e];
+        for (size_t i = 1; i < P.size(); ++i) {
+          const double hs = std::max(dist(P[i - 1], P[i]), p.minSize);
+          if (i == 1) found[e].push_back({P[0], hs});
+          found[e].push_back({0.5 * (P[i - 1] + P[i]), hs});
+          found[e].push_back({P[i], hs});
+        }
+      });
+      size_t added = 0;
+      for (const auto& v : found)
+        for (const SizeSource& s : v) {
+          field.addSource(s.p, s.h);
+          ++added;
+        }
+      if (added) {
+        field.build();
+        discretizeAll();
+      }
+    }
     // two edges joining the same two vertices must not both be a single chord
     std::map<std::pair<int, int>, std::vector<int>> byEnds;
     for (int e = 0; e < ne; ++e) {

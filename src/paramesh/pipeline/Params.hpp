@@ -39,6 +39,7 @@ struct MeshParams {
   int threads = 1;            ///< worker threads for face meshing; 0: all cores
   int order = 1;              ///< element order, 1 or 2 (mid-nodes on the CAD)
   bool quads = false;         ///< quad-dominant surface mesh
+  bool shortEdgeSources = true;  ///< segments much shorter than the size field refine their surroundings
   int proximity = 0;          ///< at least this many elements across thin walls / narrow faces; 0: off
   int optimizePasses = 4;     ///< passes of the 3D optimiser (swap + smooth + split/collapse)
   std::vector<LocalSize> localSizes;
