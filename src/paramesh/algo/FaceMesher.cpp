@@ -342,7 +342,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     // free edge of the poor triangles on three boundary nodes, or on two, or collapse the free
     // apex of the poor triangles; each is re-optimised, and the one leaving the fewest poor
     // triangles is kept only if it has fewer than before.
-    for (int round = 0; opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
+    for (int round = 0; opt.sliverPass && opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
       int best = O.countPoorAngles();
       if (best == 0) break;
       const Triangulation start = T;
@@ -369,7 +369,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     }
     // What the batches left, one triangle at a time (faces small enough for a whole-face count
     // per trial): split, else collapse, kept only when the face has fewer poor triangles after.
-    if (opt.optimizePasses > 0 && kPerCandidate) {
+    if (opt.sliverPass && opt.optimizePasses > 0 && kPerCandidate) {
       std::vector<int> cands;
       for (int t = 0; t < (int)T.tris.size(); ++t)
         if (!T.tris[t].dead && O.poorAngle(t)) cands.push_back(t);

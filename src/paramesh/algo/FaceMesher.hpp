@@ -41,6 +41,7 @@ struct FaceMeshOptions {
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
   int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
   bool quads = false;           ///< pair triangles into quads (quad-dominant)
+  bool sliverPass = true;       ///< post-pass against triangles with angles below 30 degrees
   const SizeField* overlay = nullptr;  ///< extra face-local sizes (boundary-layer hand-off); min with the field
 };
 

@@ -866,6 +866,9 @@ struct Mesher::Impl {
     overlay.build();
     fo.overlay = &overlay;
     fo.localNodeOffset = (int)bl.nodes.size();
+    // the sliver post-pass would undo the hand-off (it splits and collapses next to the front);
+    // relaxHandoff below looks after the triangles on the front instead
+    fo.sliverPass = false;
     FaceMeshResult r;
     if (inner.loops.empty()) {
       r.ok = true;  // the layers cover the whole face
