@@ -351,7 +351,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       for (int variant : {3, 2, 0}) {
         if (variant != 3) T = start;
         if ((variant > 0 ? O.splitBoundarySlivers(variant) : O.collapsePoorApexes()) == 0) continue;
-        for (int p = 0; p < 3; ++p) {
+        for (int p = 0; p < 1; ++p) {
           const int f = O.swapPass();
           const int m = O.smoothPass();
           if (f == 0 && m == 0) break;
