@@ -3,6 +3,7 @@
 
 usage: bench/compare.py [--models a.step,b.brep] [--divs 100,200] [--out DIR] [--threads N]
                         [--extra "--curvature-angle 10"] [--no-gmsh] [--table FILE.md]
+                        [--gmsh-from OLD/results.json]
 
 For each model and each h = bounding-box diagonal / div, meshes with `build/bin/paramesh` and with
 ../shared/tools/gmsh_baseline.py (same h, frontal), checks both meshes with the independent
@@ -73,11 +74,17 @@ def main():
     ap.add_argument('--no-gmsh', action='store_true')
     ap.add_argument('--no-check', action='store_true')
     ap.add_argument('--table', default='')
+    ap.add_argument('--gmsh-from', default='', help="reuse the Gmsh rows of an earlier run's results.json "
+                    "(same models and divisions; Gmsh's results do not depend on ParaMesh)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     names = a.models.split(',') if a.models else sorted(
         f for f in os.listdir(MODELS) if not f.endswith('.md'))
     rows = []
+    earlier = {}
+    if a.gmsh_from:
+        for r in json.load(open(a.gmsh_from)):
+            earlier[(r['model'], r['div'])] = (r['gmsh'], r['gmsh_check'])
     for name in names:
         model = os.path.join(MODELS, name)
         diag = diagonal(model)
@@ -89,7 +96,9 @@ def main():
             o = run_ours(model, h, ours_msh, rep, a.threads, a.extra.split() if a.extra else [])
             oc = meshcheck(model, ours_msh, h) if (not a.no_check and os.path.exists(ours_msh)) else {}
             g, gc = {}, {}
-            if not a.no_gmsh:
+            if (name, div) in earlier:
+                g, gc = earlier[(name, div)]
+            elif not a.no_gmsh:
                 gm = os.path.join(a.out, f'{tag}.gmsh.msh')
                 g = run_gmsh(model, h, gm, 0)
                 gc = meshcheck(model, gm, h) if (not a.no_check and os.path.exists(gm)) else {}
