@@ -134,7 +134,7 @@ struct Mesher::Impl {
     Timer tm;
     // gaps up to 1e-6 of the diagonal are closed (nodes then stay within 1e-4 h of every face for
     // h >= diagonal/100); larger gaps are real and stay open
-    same = findCoincident(model, 1e-6 * model.boundingBox().diagonal());
+    same = findCoincident(model, 2e-7 * model.boundingBox().diagonal());
     if (same.mergedEdges || same.mergedVertices)
       log.info("unsewn CAD: " + std::to_string(same.mergedEdges) + " coincident edges and " +
                std::to_string(same.mergedVertices) + " coincident vertices are meshed as one");
