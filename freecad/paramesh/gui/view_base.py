@@ -54,3 +54,26 @@ class ViewProviderBase:
 
     def loads(self, state):
         return None
+
+
+class ViewProviderChild(ViewProviderBase):
+    """A child of a surface mesh (boundary layer, local size): double-click opens `task_class`
+    (imported from `task_module` in this package) on the child and its parent mesh."""
+
+    task_module = ""
+    task_class = ""
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import importlib
+        from ..app.objects.boundary_layer import parent_mesh
+        task = getattr(importlib.import_module(f"{__package__}.{self.task_module}"), self.task_class)
+        parent = parent_mesh(vobj.Object)
+        if parent is None:
+            FreeCAD.Console.PrintWarning(f"{vobj.Object.Label} belongs to no ParaMesh surface mesh\n")
+            return False
+        created = getattr(self, "created_by_command", False)
+        self.created_by_command = False
+        FreeCADGui.Control.showDialog(task(vobj.Object, parent, created=created))
+        return True

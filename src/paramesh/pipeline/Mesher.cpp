@@ -15,6 +15,7 @@
 #include "paramesh/algo/FeatureDetect.hpp"
 #include "paramesh/algo/HighOrder.hpp"
 #include "paramesh/algo/Predicates.hpp"
+#include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
@@ -726,13 +727,7 @@ struct Mesher::Impl {
     for (size_t t = 0; t < tris.size(); ++t)
       for (int v : tris[t])
         if (movable(v)) around[v].push_back((int)t);
-    auto quality = [&](int t) {
-      const Vec3 a = P(tris[t][0]), b = P(tris[t][1]), c = P(tris[t][2]);
-      const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
-      const double area = 0.5 * norm(cross(b - a, c - a));
-      const double prod = la * lb * lc * (la + lb + lc);
-      return prod > 0 ? 16.0 * area * area / prod : 0.0;  // radius ratio 2r/R: 1 for equilateral
-    };
+    auto quality = [&](int t) { return gamma3(P(tris[t][0]), P(tris[t][1]), P(tris[t][2])); };
     for (int pass = 0; pass < 3; ++pass) {
       std::map<int, std::pair<Vec3, int>> wish;  // apex -> sum of wished positions, count
       for (size_t t = 0; t < tris.size(); ++t) {
