@@ -152,6 +152,67 @@ TEST(HardCases, SlenderPlaneThinnerThanSize) {
   meshAndCheck(*g, 2.0, {0.0, 100.0, 0.0});
 }
 
+/// Largest (centroid distance from the surface) / (mean edge length) over the triangles of the
+/// faces for which `surfDist` is defined (it returns < 0 elsewhere): measured analytically.
+template <class F>
+double worstCentroidRatio(const SurfaceMesh& m, F surfDist, int* checked) {
+  double worst = 0;
+  *checked = 0;
+  for (size_t t = 0; t < m.triangles.size(); ++t) {
+    const Vec3 a = m.nodes[m.triangles[t][0]], b = m.nodes[m.triangles[t][1]], c = m.nodes[m.triangles[t][2]];
+    const double d = surfDist(m.triangleFace[t], (1.0 / 3) * (a + b + c));
+    if (d < 0) continue;
+    ++*checked;
+    worst = std::max(worst, d / ((dist(a, b) + dist(b, c) + dist(c, a)) / 3.0));
+  }
+  return worst;
+}
+
+// --curvature-angle 10 promises centroids within 0.03 of the edge length (the sagitta of a 10
+// degree arc is 0.022 of its chord) on radii far below the global size. At a cone's apex the
+// radius goes to zero: sizes follow it down to min-size (size/1000), so the promise holds except
+// within ~12 min-size of the apex (where the 10-degree size would be below min-size)
+TEST(CurvatureAngle, CentroidsWithinThreePercentOfTheEdgeLength) {
+  MeshParams p;
+  p.curvatureAngle = 10;
+  {
+    auto g = loadOccModelFromBrepString(toBrep(BRepPrimAPI_MakeSphere(2.0).Shape()));
+    p.size = 5.0;
+    MeshOutput out = Mesher(*g, p).run();
+    ASSERT_EQ(out.report.status, RunStatus::Ok);
+    int n = 0;
+    const double r = worstCentroidRatio(out.mesh, [](int, Vec3 x) { return std::fabs(norm(x) - 2.0); }, &n);
+    EXPECT_GT(n, 200);
+    EXPECT_LE(r, 0.03) << "sphere of radius 2 at size 5";
+    EXPECT_EQ(paramesh::test::measure(out.mesh, *g, 0.2).flipped, 0);
+  }
+  {
+    // cone: base radius 10 at z = 0, apex at z = 20; distance to the line r = 10 (1 - z/20)
+    auto g = loadOccModelFromBrepString(toBrep(BRepPrimAPI_MakeCone(10.0, 0.0, 20.0).Shape()));
+    p.size = 4.0;
+    MeshOutput out = Mesher(*g, p).run();
+    ASSERT_EQ(out.report.status, RunStatus::Ok);
+    const double minSize = 4.0 / 1000, apexZone = 15 * minSize;
+    auto coneDist = [&](bool nearApex) {
+      return [=](int, Vec3 x) {
+        if (std::fabs(x.z) < 1e-9) return -1.0;  // the base disk
+        if ((dist(x, Vec3{0, 0, 20}) < apexZone) != nearApex) return -1.0;
+        const double r = std::sqrt(x.x * x.x + x.y * x.y);
+        return std::fabs(20.0 * r + 10.0 * x.z - 200.0) / std::sqrt(500.0);
+      };
+    };
+    int n = 0, nApex = 0;
+    EXPECT_LE(worstCentroidRatio(out.mesh, coneDist(false), &n), 0.03) << "cone outside the apex zone";
+    EXPECT_LE(worstCentroidRatio(out.mesh, coneDist(true), &nApex), 0.15) << "cone near the apex";
+    EXPECT_GT(n, 1000);
+    EXPECT_GT(nApex, 10);
+    const MeshStats st = paramesh::test::measure(out.mesh, *g, 4.0);
+    EXPECT_EQ(st.flipped, 0);
+    EXPECT_EQ(st.boundaryEdges, 0);
+    EXPECT_LE(st.nodeDevMax, 1e-6);
+  }
+}
+
 TEST(Errors, BadParametersNameTheParameter) {
   auto g = loadOccModelFromBrepString(toBrep(BRepPrimAPI_MakeSphere(1.0).Shape()));
   MeshParams p;

@@ -394,7 +394,8 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         }
       }
     }
-    if (opt.maxDeviation > 0 && O.refineDeviation(opt.maxDeviation) > 0) {
+    if ((opt.maxDeviation > 0 || opt.maxDeviationRatio > 0) &&
+        O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength) > 0) {
       O.smoothPass();
       O.swapPass();
     }

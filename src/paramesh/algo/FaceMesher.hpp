@@ -39,6 +39,8 @@ struct FaceMeshOptions {
   double acceptRadius = 0.7071;   ///< frontal: triangles whose metric circumradius is below are accepted
   long maxPoints = 50000000;    ///< hard cap on inserted points (guards against runaway refinement)
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
+  double maxDeviationRatio = 0; ///< max centroid distance from the surface / the triangle's mean edge; 0: off
+  double minSplitLength = 0;    ///< deviation refinement splits no edge shorter than this
   int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
   bool quads = false;           ///< pair triangles into quads (quad-dominant)
   bool sliverPass = true;       ///< post-pass against triangles with angles below 30 degrees

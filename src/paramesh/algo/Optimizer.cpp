@@ -61,38 +61,64 @@ double Optimizer::deviationEstimate(int ia, int ib, int ic) const {
   return m;
 }
 
+double Optimizer::allowedDeviation(int a, int b, int c) const {
+  double allowed = maxDev_ > 0 ? maxDev_ : 1e300;
+  if (devRatio_ > 0) {
+    const Vec3 &A = T_.verts[a].xyz, &B = T_.verts[b].xyz, &Cc = T_.verts[c].xyz;
+    const double mean = (dist(A, B) + dist(B, Cc) + dist(Cc, A)) / 3.0;
+    allowed = std::min(allowed, devRatio_ * mean);
+  }
+  return allowed + (gap(a) + gap(b) + gap(c)) / 3.0;
+}
+
 bool Optimizer::deviationOk(int a, int b, int c, double allowed) const {
-  if (maxDev_ <= 0) return true;
-  allowed = std::max(allowed, maxDev_);
+  if (maxDev_ <= 0 && devRatio_ <= 0) return true;
+  allowed = std::max(allowed, allowedDeviation(a, b, c));
   if (deviationEstimate(a, b, c) <= 0.5 * allowed) return true;
   return deviation(a, b, c) <= allowed;
 }
 
-int Optimizer::refineDeviation(double maxDev) {
+int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge) {
   maxDev_ = maxDev;
-  if (maxDev <= 0 || C_.planar) return 0;
+  devRatio_ = ratio;
+  if ((maxDev <= 0 && ratio <= 0) || C_.planar) return 0;
+  gap_.assign(T_.verts.size(), 0.0);
+  for (size_t v = 0; v < T_.verts.size(); ++v) {
+    const TriVertex& V = T_.verts[v];
+    if (V.node >= 0 && !(V.flags & (VF_SUPER | VF_DEAD)))
+      gap_[v] = dist(V.xyz, C_.surf.eval(C_.toParam(V.uv)));
+  }
   int changes = 0;
   for (int round = 0; round < 10; ++round) {
     std::vector<int> bad;
     for (int t = 0; t < (int)T_.tris.size(); ++t) {
       const Triangle& tr = T_.tris[t];
       if (tr.dead) continue;
-      if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * maxDev) continue;
-      if (deviation(tr.v[0], tr.v[1], tr.v[2]) > maxDev) bad.push_back(t);
+      const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2]);
+      if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * allowed) continue;
+      if (deviation(tr.v[0], tr.v[1], tr.v[2]) > allowed) bad.push_back(t);
     }
     if (bad.empty()) break;
     int done = 0;
     for (int t : bad) {
       if (T_.tris[t].dead) continue;
       const Triangle tr = T_.tris[t];
-      if (deviation(tr.v[0], tr.v[1], tr.v[2]) <= maxDev) continue;
-      // longest free edge
+      if (deviation(tr.v[0], tr.v[1], tr.v[2]) <= allowedDeviation(tr.v[0], tr.v[1], tr.v[2])) continue;
+      // the free edge with the largest sag (estimated from the vertex normals), else the longest:
+      // across a cone's apex the sag is on the edge opposite the apex, not on the longer sides
       int best = -1;
-      double bl = -1;
+      double bs = -1, bl = -1;
       for (int i = 0; i < 3; ++i) {
         if (T_.isConstrained(t, i)) continue;
-        const double l = dist(T_.verts[tr.v[nx(i)]].xyz, T_.verts[tr.v[pv(i)]].xyz);
-        if (l > bl) {
+        const TriVertex &P = T_.verts[tr.v[nx(i)]], &Q = T_.verts[tr.v[pv(i)]];
+        // never split an edge from a pole: its neighbour on the pole line would become a
+        // triangle with two vertices on one generator and the third at the pole, flat in 3D
+        if ((P.flags | Q.flags) & VF_POLE) continue;
+        const double l = dist(P.xyz, Q.xyz);
+        if (l < minEdge) continue;
+        const double sag = std::fabs(dot(P.normal - Q.normal, Q.xyz - P.xyz)) / 8.0;
+        if (sag > bs * 1.25 || (sag >= bs * 0.8 && l > bl)) {
+          bs = sag;
           bl = l;
           best = i;
         }
@@ -102,6 +128,10 @@ int Optimizer::refineDeviation(double maxDev) {
         continue;
       }
       // all edges on the boundary: insert the (projected) centroid
+      if (best < 0 && minEdge > 0) {
+        const Vec3 &A = T_.verts[tr.v[0]].xyz, &B = T_.verts[tr.v[1]].xyz, &Cc = T_.verts[tr.v[2]].xyz;
+        if (std::min({dist(A, B), dist(B, Cc), dist(Cc, A)}) < 2.0 * minEdge) continue;
+      }
       const Vec2 s0 = (1.0 / 3) * (T_.verts[tr.v[0]].uv + T_.verts[tr.v[1]].uv + T_.verts[tr.v[2]].uv);
       if (!C_.inDomain(s0)) continue;
       int e = -1;
@@ -148,7 +178,7 @@ int Optimizer::swapPass() {
       const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
       const double cold = dot(n0, n1), cnew = dot(m0, m1);
       if (cnew < std::min(cold, 0.984807753) - 1e-9) continue;
-      if (maxDev_ > 0) {
+      if (maxDev_ > 0 || devRatio_ > 0) {
         const double allowed = std::max(deviationEstimate(a, b, c), deviationEstimate(d, c, b));
         if (!deviationOk(a, b, d, allowed) || !deviationOk(a, d, c, allowed)) continue;
       }

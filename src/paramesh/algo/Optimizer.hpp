@@ -53,9 +53,14 @@ class Optimizer {
 
   /// Distance from the centroid of triangle (a,b,c) to the surface (chordal deviation).
   double deviation(int a, int b, int c) const;
-  /// Refines triangles whose chordal deviation exceeds maxDev (split the longest free edge, or
-  /// insert the centroid). Afterwards swaps and smoothing never create such triangles.
-  int refineDeviation(double maxDev);
+  /// Refines triangles whose chordal deviation exceeds maxDev (a length; 0: no absolute bound) or
+  /// ratio times their mean 3D edge length (0: no relative bound): splits the free edge with the
+  /// largest sag (the longest on a tie), or inserts the centroid. The part of a triangle's
+  /// deviation that its boundary nodes already have (CAD edges lying off the surface within their
+  /// tolerance) is not counted: refining cannot remove it. Afterwards swaps and smoothing never
+  /// create such triangles.
+  /// Edges shorter than minEdge are not split.
+  int refineDeviation(double maxDev, double ratio = 0, double minEdge = 0);
   /// 3D quality of triangle t (pole-degenerate triangles count as 1: they vanish in 3D).
   double quality(int t) const;
   /// True when triangle (a,b,c) is valid: counter-clockwise in (u,v) and facing like the surface.
@@ -67,10 +72,17 @@ class Optimizer {
   /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
   double deviationEstimate(int a, int b, int c) const;
   bool deviationOk(int a, int b, int c, double allowed) const;
+  /// Deviation triangle (a,b,c) may have under the absolute and relative bounds (+inf: none).
+  double allowedDeviation(int a, int b, int c) const;
+  /// Distance of vertex v from the surface at its (u,v): nonzero only for nodes of CAD edges
+  /// that lie off the face within the edge's tolerance.
+  double gap(int v) const { return v < (int)gap_.size() ? gap_[v] : 0.0; }
   Triangulation& T_;
   const SurfaceContext& C_;
   std::vector<int> ring_;
-  double maxDev_ = 0;  ///< 0: no deviation guard
+  double maxDev_ = 0;    ///< absolute deviation bound; 0: none
+  double devRatio_ = 0;  ///< deviation bound relative to the mean edge length; 0: none
+  std::vector<double> gap_;
   const Progress* progress_ = nullptr;
   void poll(int i) const {
     if (progress_ && (i & 1023) == 0) progress_->poll();

@@ -91,7 +91,9 @@ struct Mesher::Impl {
     if (!(diag > 0)) throw InputError("the model has zero extent");
     if (p.size == 0) p.size = diag / 50.0;
     if (p.maxSize == 0) p.maxSize = p.size;
-    if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / 100.0;
+    // curvature sizing resolves radii down to size/1000 unless told otherwise (fillets, blade
+    // tips and leading edges are far smaller than the global size); other sources stop at 1/100
+    if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / (p.curvatureAngle > 0 ? 1000.0 : 100.0);
     if (p.minSize > p.maxSize) throw ParameterError("min_size (" + fmt(p.minSize) + ") is larger than max_size (" + fmt(p.maxSize) + ")");
     if (p.size < diag * 1e-6)
       throw ParameterError("size " + fmt(p.size) + " is below 1e-6 of the model diagonal (" + fmt(diag) +
@@ -919,6 +921,10 @@ struct Mesher::Impl {
     fo.optimizePasses = p.optimizePasses;
     fo.quads = p.quads;
     fo.maxDeviation = p.maxDeviation * p.size;
+    // a triangle whose edges subtend the curvature angle t (radians) on a sphere has its centroid
+    // t/6 of its edge length off the surface: allow no more (10 degrees: 0.029)
+    fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
+    fo.minSplitLength = 0.5 * p.minSize;
     parallelFor(nf, threads, [&](int f) {
       progress.poll();
       Timer ft;
