@@ -245,12 +245,14 @@ def test_m6_over_the_tip(m6_tip):
     assert_valid_mesh(res, watertight=True)
     assert sorted(r.report["boundary_layers"][0]["edges"]) == ["Edge21", "Edge6"]
     # the tip columns of Face3 (over Edge6) and Face10 (over Edge21) both run along Edge7 from
-    # the common vertex: the same mesh nodes, so the two faces stay conformal there
-    along7 = [e for e in res["_ends"] if e["along_edge"] == 7]
-    assert {e["face"] for e in along7} == {3, 10}
-    assert along7[0]["nodes"] == along7[1]["nodes"]
-    along15 = [e for e in res["_ends"] if e["along_edge"] == 15]
-    assert {e["face"] for e in along15} == {6, 11} and along15[0]["nodes"] == along15[1]["nodes"]
+    # the common vertex on the same mesh nodes, so the two faces stay conformal there; the
+    # three-sided tip face stops one row lower (measured 8 rows against 9), where the region left
+    # under its apex is deep enough for the triangles on its last row
+    for edge, faces in ((7, {3, 10}), (15, {6, 11})):
+        along = sorted((e for e in res["_ends"] if e["along_edge"] == edge), key=lambda e: len(e["nodes"]))
+        assert {e["face"] for e in along} == faces
+        short, long_ = along[0]["nodes"], along[1]["nodes"]
+        assert len(short) >= 8 and long_[:len(short)] == short
 
 
 def test_m6_over_the_tip_jump_outside_the_tip_faces(m6_tip):
@@ -259,10 +261,9 @@ def test_m6_over_the_tip_jump_outside_the_tip_faces(m6_tip):
     assert max(c["jump"] for c in cols) <= 1.5
 
 
-@pytest.mark.xfail(reason="measured: hand-off jump 3.23 in the tiny tip faces Face3/Face6: one column over "
-                          "Edge6, cut at 9 rows (last row 2.15) by the 12.3-long Edge7, under a triangle "
-                          "only 0.67 high (moving its apex would make a 7-degree triangle)")
 def test_m6_over_the_tip_jump(m6_tip):
+    # every column, the tip faces included (measured 1.34; 3.23 before the tip-face columns
+    # stopped where the apex region is deep enough)
     _, res = m6_tip
     assert res["jump"]["max"] <= 1.5
 

@@ -376,8 +376,51 @@ class FaceLayers {
         if (cols.back().fixed && cols.back().xyz.size() > 1) cols[i].wEnd[1] = w(total - s[i]);
       }
     }
+    trimAtApex(L, a, nseg, closed, cols);
     march(L, cols, closed);
     emit(L, a, nseg, closed, cols);
+  }
+
+  /// A run whose two end columns run up the sides of a three-sided face to one apex: the last
+  /// rows leave a region between the top edge and the apex. Rows are taken off both end columns
+  /// until the loop points next to the two tops stand at least 1/1.5 of the last row's height
+  /// above the top edge (the layer points stay on the edges, as nodes of the region above), so
+  /// that the triangles on the top edge are not much flatter than the row below them.
+  void trimAtApex(int L, int a, int nseg, bool closed, std::vector<Column>& cols) const {
+    if (closed || cols.size() < 2) return;
+    Column &c0 = cols.front(), &c1 = cols.back();
+    if (!c0.fixed || !c1.fixed || c0.xyz.size() < 2 || c1.xyz.size() < 2) return;
+    const auto& lp = loops_[L];
+    const int n = (int)lp.size();
+    auto idx = [&](int i) { return ((i % n) + n) % n; };
+    // far vertex of the first column's edge (walking back from a) and of the last's (forward)
+    const int e0 = lp[idx(a - 1)].edge, e1 = lp[idx(a + nseg)].edge;
+    if (e0 < 0 || e1 < 0) return;
+    int p = a - 1, q = a + nseg + 1, guard = 0;
+    while (lp[idx(p - 1)].edge == e0 && ++guard < n) --p;
+    while (lp[idx(q)].edge == e1 && ++guard < 2 * n) ++q;
+    if (idx(p) != idx(q)) return;  // more than one edge between the two sides: no apex
+    const LayerLaw& law = laws_[c0.spec];
+    for (;;) {
+      const int k = (int)std::min(c0.xyz.size(), c1.xyz.size()) - 1;  // rows of the run's ends
+      if (k < 2) return;
+      const Vec3 A = c0.xyz[k], B = c1.xyz[k];
+      const double w = dist(A, B);
+      if (!(w > 0)) return;
+      // the loop points next to the two tops (further up the sides, or the apex) stand over the
+      // top edge: the triangles on it take one of them
+      const Vec3 X = lp[idx(a - k - 1)].xyz, Y = lp[idx(a + nseg + k + 1)].xyz;
+      const double depth = std::min(norm(cross(B - A, X - A)), norm(cross(B - A, Y - A))) / w;
+      if (depth * 1.5 >= law.height(k - 1)) return;
+      for (Column* c : {&c0, &c1}) {
+        while ((int)c->xyz.size() > k) {
+          c->uv.pop_back();
+          c->xyz.pop_back();
+          c->ref.pop_back();
+        }
+        c->stop = 5;
+      }
+    }
   }
 
   void march(int L, std::vector<Column>& cols, bool closed) {
