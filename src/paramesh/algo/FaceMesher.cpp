@@ -377,9 +377,11 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         int poor = O.countPoorAngles();
         for (int t : cands) {
           if (T.tris[t].dead || !O.poorAngle(t)) continue;
-          for (int action = 0; action < 2; ++action) {
+          for (int action = 0; action < 3; ++action) {
             Triangulation backup = T;
-            const bool done = action == 0 ? O.splitLongestFree(t) >= 0 : O.collapseApex(t);
+            const bool done = action == 0 ? O.splitLongestFree(t) >= 0
+                              : action == 1 ? O.collapseApex(t)
+                                            : O.relocateForAngles(t);
             if (!done) continue;
             O.swapPass();
             O.smoothPass();

@@ -191,6 +191,23 @@ int Optimizer::swapPass() {
   return flips;
 }
 
+bool Optimizer::moveTo(TriVertex& V, Vec2 from, Vec3 goal) const {
+  Vec2 s = from;
+  Vec3 p;
+  if (!C_.stepAndProject(s, goal, p) || !C_.inDomain(s)) return false;
+  V.uv = s;
+  V.xyz = p;
+  return true;
+}
+
+bool Optimizer::ringValid() const {
+  for (int t : ring_) {
+    const Triangle& tr = T_.tris[t];
+    if (!valid(tr.v[0], tr.v[1], tr.v[2]) || !deviationOk(tr.v[0], tr.v[1], tr.v[2], 0)) return false;
+  }
+  return true;
+}
+
 int Optimizer::smoothPass() {
   int moved = 0;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
@@ -220,22 +237,10 @@ int Optimizer::smoothPass() {
     const Vec3 oldXyz = V.xyz;
     bool accepted = false;
     for (double relax : {1.0, 0.5}) {
-      Vec3 goal = oldXyz + relax * (target - oldXyz);
-      Vec2 s = oldUv;
-      Vec3 p;
-      if (!C_.stepAndProject(s, goal, p) || !C_.inDomain(s)) continue;
-      V.uv = s;
-      V.xyz = p;
-      bool ok = true;
+      if (!moveTo(V, oldUv, oldXyz + relax * (target - oldXyz))) continue;
+      const bool ok = ringValid();
       double q1 = 1e300;
-      for (int t : ring_) {
-        const Triangle& tr = T_.tris[t];
-        if (!valid(tr.v[0], tr.v[1], tr.v[2]) || !deviationOk(tr.v[0], tr.v[1], tr.v[2], 0)) {
-          ok = false;
-          break;
-        }
-        q1 = std::min(q1, quality(t));
-      }
+      for (int t : ring_) q1 = std::min(q1, quality(t));
       if (ok && q1 > q0 + 1e-9) {
         accepted = true;
         break;
@@ -516,6 +521,76 @@ bool Optimizer::poorAngle(int t) const {
     if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return false;
   }
   return sinMinAngle(a.xyz, b.xyz, c.xyz) < 0.5;  // smallest angle below 30 degrees
+}
+
+bool Optimizer::relocateForAngles(int t) {
+  bool movedAny = false;
+  const Triangle tr = T_.tris[t];
+  for (int k = 0; k < 3; ++k) {
+    const int v = tr.v[k];
+    TriVertex& V = T_.verts[v];
+    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) continue;
+    bool closed = true;
+    T_.ring(v, ring_, &closed);
+    if (!closed || ring_.size() < 3) continue;
+    auto ringMin = [&]() {
+      double m = 1e300;
+      for (int r : ring_) {
+        const Triangle& R = T_.tris[r];
+        m = std::min(m, sinMinAngle(T_.verts[R.v[0]].xyz, T_.verts[R.v[1]].xyz, T_.verts[R.v[2]].xyz));
+      }
+      return m;
+    };
+    // candidates: the ring's centroid and its equilateral apexes' mean, and halfway to each
+    Vec3 centroid{0, 0, 0}, apexMean{0, 0, 0};
+    for (int r : ring_) {
+      const int i = T_.indexOf(r, v);
+      const Triangle& R = T_.tris[r];
+      const Vec3 x = T_.verts[R.v[nx(i)]].xyz, y = T_.verts[R.v[pv(i)]].xyz;
+      centroid += x;
+      apexMean += 0.5 * (x + y) + (0.8660254037844386 * dist(x, y)) * normalized(cross(V.normal, y - x));
+    }
+    centroid = centroid * (1.0 / ring_.size());
+    apexMean = apexMean * (1.0 / ring_.size());
+    const Vec2 oldUv = V.uv;
+    const Vec3 oldXyz = V.xyz;
+    const double m0 = ringMin();
+    double best = m0;
+    Vec2 bestUv = oldUv;
+    Vec3 bestXyz = oldXyz;
+    auto tryGoal = [&](Vec3 goal, Vec2 from) {
+      if (!moveTo(V, from, goal)) return;
+      const double m = ringValid() ? ringMin() : -1;
+      if (m > best + 1e-9) {
+        best = m;
+        bestUv = V.uv;
+        bestXyz = V.xyz;
+      }
+      V.uv = oldUv;
+      V.xyz = oldXyz;
+    };
+    for (const Vec3 goal : {centroid, apexMean, 0.5 * (oldXyz + centroid), 0.5 * (oldXyz + apexMean)})
+      tryGoal(goal, oldUv);
+    // then a pattern search in the tangent plane around the best so far
+    Vec3 e1 = cross(V.normal, Vec3{1, 0, 0});
+    if (norm2(e1) < 0.1) e1 = cross(V.normal, Vec3{0, 1, 0});
+    e1 = normalized(e1);
+    const Vec3 e2 = normalized(cross(V.normal, e1));
+    for (double step = 0.15 * V.h; step > 0.02 * V.h; step *= 0.5) {
+      for (int dir = 0; dir < 8; ++dir) {
+        const double a = dir * 0.7853981633974483;
+        const Vec3 base = bestXyz;
+        tryGoal(base + step * (std::cos(a) * e1 + std::sin(a) * e2), bestUv);
+      }
+    }
+    if (best > m0 + 1e-9) {
+      V.uv = bestUv;
+      V.xyz = bestXyz;
+      C_.fill(V);
+      movedAny = true;
+    }
+  }
+  return movedAny;
 }
 
 int Optimizer::countPoorAngles() const {

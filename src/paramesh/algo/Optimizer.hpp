@@ -36,6 +36,9 @@ class Optimizer {
   /// True when the smallest 3D angle of triangle t is below 30 degrees (pole triangles: false).
   bool poorAngle(int t) const;
   int countPoorAngles() const;
+  /// Moves the free vertices of t (to their ring's centroid, its equilateral apexes' mean, or
+  /// halfway) when that raises the smallest angle of their ring; true when one moved.
+  bool relocateForAngles(int t);
   /// Splits the longest free edge of every triangle with at least minBoundary vertices on the
   /// boundary and a smallest angle below 30 degrees. Returns the number of splits.
   int splitBoundarySlivers(int minBoundary = 3);
@@ -72,6 +75,11 @@ class Optimizer {
   /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
   double deviationEstimate(int a, int b, int c) const;
   bool deviationOk(int a, int b, int c, double allowed) const;
+  /// Puts V at the surface point nearest goal (projection started at `from`); false, V unchanged,
+  /// when the projection fails or leaves the face.
+  bool moveTo(TriVertex& V, Vec2 from, Vec3 goal) const;
+  /// True when every triangle of ring_ is valid and within the deviation bound.
+  bool ringValid() const;
   /// Deviation triangle (a,b,c) may have under the absolute and relative bounds (+inf: none).
   double allowedDeviation(int a, int b, int c) const;
   /// Distance of vertex v from the surface at its (u,v): nonzero only for nodes of CAD edges
