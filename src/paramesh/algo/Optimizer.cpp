@@ -127,7 +127,8 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge) {
         ++done;
         continue;
       }
-      // all edges on the boundary: insert the (projected) centroid
+      // no edge to split (all on the boundary, from a pole or too short): insert the
+      // (projected) centroid, unless the triangle is already at the smallest size
       if (best < 0 && minEdge > 0) {
         const Vec3 &A = T_.verts[tr.v[0]].xyz, &B = T_.verts[tr.v[1]].xyz, &Cc = T_.verts[tr.v[2]].xyz;
         if (std::min({dist(A, B), dist(B, Cc), dist(Cc, A)}) < 2.0 * minEdge) continue;
@@ -208,6 +209,18 @@ bool Optimizer::ringValid() const {
   return true;
 }
 
+Vec3 Optimizer::ringApexMean(int v) const {
+  const TriVertex& V = T_.verts[v];
+  Vec3 sum{0, 0, 0};
+  for (int t : ring_) {
+    const int k = T_.indexOf(t, v);
+    const Triangle& tr = T_.tris[t];
+    const Vec3 x = T_.verts[tr.v[nx(k)]].xyz, y = T_.verts[tr.v[pv(k)]].xyz;
+    sum += 0.5 * (x + y) + (0.8660254037844386 * dist(x, y)) * normalized(cross(V.normal, y - x));
+  }
+  return sum * (1.0 / ring_.size());
+}
+
 int Optimizer::smoothPass() {
   int moved = 0;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
@@ -218,32 +231,20 @@ int Optimizer::smoothPass() {
     T_.ring(v, ring_, &closed);
     if (!closed || ring_.size() < 3) continue;
     double q0 = 1e300;
-    Vec3 target{0, 0, 0};
-    double wsum = 0;
-    for (int t : ring_) {
-      q0 = std::min(q0, quality(t));
-      const int k = T_.indexOf(t, v);
-      const Triangle& tr = T_.tris[t];
-      const Vec3 x = T_.verts[tr.v[nx(k)]].xyz, y = T_.verts[tr.v[pv(k)]].xyz;
-      const Vec3 e = y - x;
-      const double le = norm(e);
-      Vec3 dir = normalized(cross(V.normal, e));
-      const Vec3 apex = 0.5 * (x + y) + (0.8660254037844386 * le) * dir;
-      target += apex;
-      wsum += 1;
-    }
-    target = target * (1.0 / wsum);
+    for (int t : ring_) q0 = std::min(q0, quality(t));
+    const Vec3 target = ringApexMean(v);
     const Vec2 oldUv = V.uv;
     const Vec3 oldXyz = V.xyz;
     bool accepted = false;
     for (double relax : {1.0, 0.5}) {
       if (!moveTo(V, oldUv, oldXyz + relax * (target - oldXyz))) continue;
-      const bool ok = ringValid();
-      double q1 = 1e300;
-      for (int t : ring_) q1 = std::min(q1, quality(t));
-      if (ok && q1 > q0 + 1e-9) {
-        accepted = true;
-        break;
+      if (ringValid()) {
+        double q1 = 1e300;
+        for (int t : ring_) q1 = std::min(q1, quality(t));
+        if (q1 > q0 + 1e-9) {
+          accepted = true;
+          break;
+        }
       }
       V.uv = oldUv;
       V.xyz = oldXyz;
@@ -542,16 +543,10 @@ bool Optimizer::relocateForAngles(int t) {
       return m;
     };
     // candidates: the ring's centroid and its equilateral apexes' mean, and halfway to each
-    Vec3 centroid{0, 0, 0}, apexMean{0, 0, 0};
-    for (int r : ring_) {
-      const int i = T_.indexOf(r, v);
-      const Triangle& R = T_.tris[r];
-      const Vec3 x = T_.verts[R.v[nx(i)]].xyz, y = T_.verts[R.v[pv(i)]].xyz;
-      centroid += x;
-      apexMean += 0.5 * (x + y) + (0.8660254037844386 * dist(x, y)) * normalized(cross(V.normal, y - x));
-    }
+    Vec3 centroid{0, 0, 0};
+    for (int r : ring_) centroid += T_.verts[T_.tris[r].v[nx(T_.indexOf(r, v))]].xyz;
     centroid = centroid * (1.0 / ring_.size());
-    apexMean = apexMean * (1.0 / ring_.size());
+    const Vec3 apexMean = ringApexMean(v);
     const Vec2 oldUv = V.uv;
     const Vec3 oldXyz = V.xyz;
     const double m0 = ringMin();

@@ -80,6 +80,9 @@ class Optimizer {
   bool moveTo(TriVertex& V, Vec2 from, Vec3 goal) const;
   /// True when every triangle of ring_ is valid and within the deviation bound.
   bool ringValid() const;
+  /// Mean of the apexes of the equilateral triangles standing on the far edges of ring_ (the ring
+  /// of v), in v's tangent plane: the smoothing target.
+  Vec3 ringApexMean(int v) const;
   /// Deviation triangle (a,b,c) may have under the absolute and relative bounds (+inf: none).
   double allowedDeviation(int a, int b, int c) const;
   /// Distance of vertex v from the surface at its (u,v): nonzero only for nodes of CAD edges
