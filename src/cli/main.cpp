@@ -50,6 +50,9 @@ const char* kUsage =
     "  --params FILE.json    parameters (and several boundary-layer specs) from a JSON file\n"
     "  --local-size FaceN=H  local size near a face, edge (EdgeN=H) or vertex (VertexN=H); repeatable\n"
     "  --proximity N         at least N elements across thin walls and narrow faces (0: off)\n"
+    "  --nearest-face-check  refine triangles cut so deep into a thin part (> 4.5 % of the size)\n"
+    "                        that their centroid is nearer another face than their own, and mesh\n"
+    "                        again (at most 6 times; the report says how many remain)\n"
     "  --quads               quad-dominant surface mesh (triangles paired into quads)\n"
     "  --order 1|2           element order; 2 puts mid-edge nodes on the CAD (default 1)\n"
     "  --png FILE.png        render a picture of the mesh\n"
@@ -157,6 +160,7 @@ int cmdMesh(int argc, char** argv) {
         die(1, std::string("--local-size: ") + e.what());
       }
     } else if (a == "--proximity") p.proximity = parseInt(a, next());
+    else if (a == "--nearest-face-check") p.nearestFaceCheck = true;
     else if (a == "--quads") p.quads = true;
     else if (a == "--report") report = next();
     else if (a == "--png") png = next();

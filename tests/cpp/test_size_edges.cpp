@@ -3,7 +3,8 @@
 /// Tests of the size field (exact cone formula against brute force, dominated-source removal,
 /// gradient bound), of the edge discretiser (curve length and turning, equidistribution for
 /// constant and graded sizes, minimum segment counts on closed curves) and of the curvature size
-/// sources (principal curvature of analytic surfaces, cylinder face sources).
+/// sources (principal curvature of analytic surfaces, cylinder face sources), and of the
+/// nearest-face check (distances to other faces, their deviation bound, the CAD callback, sizes).
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -28,6 +29,7 @@
 #include "paramesh/geom/Geometry.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
+#include "paramesh/size/NearestFace.hpp"
 #include "paramesh/size/SizeField.hpp"
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
@@ -485,4 +487,65 @@ TEST(Curvature, CircleEdgeSources) {
   const int l = edgeOfKind(*m, CurveKind::Line);
   ASSERT_GE(l, 0);
   EXPECT_TRUE(edgeCurvatureSources(*m, l, angle, 0.01, 2.0).empty());
+}
+
+namespace {
+// Face 1: one triangle in z = 0 (centroid (1/3, 1/3, 0)); face 2: a large triangle in the plane
+// z = -gap under it (facing it, like the other skin of a thin blade).
+paramesh::SurfaceMesh twoSkins(double gap) {
+  using paramesh::Vec3;
+  paramesh::SurfaceMesh m;
+  for (Vec3 p : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{-5, -5, -gap}, Vec3{5, -5, -gap}, Vec3{0, 5, -gap}})
+    m.addNode(p, paramesh::NodeKind::Face, 1, {0, 0});
+  m.triangles = {{0, 1, 2}, {3, 4, 5}};
+  m.triangleFace = {1, 2};
+  m.triangleLayer = {0, 0};
+  return m;
+}
+}  // namespace
+
+TEST(NearestFace, FlagsATriangleNearerTheOtherSkin) {
+  using namespace paramesh;
+  // own deviation 0.5: the other skin at 0.3 is nearer (flagged), at 0.6 it is not (0.6 > 1.1 x 0.5)
+  const auto near = nearestFaceSources(twoSkins(0.3), {{0, 0.5}}, 1e-3);
+  ASSERT_EQ(near.flagged, 1);
+  ASSERT_EQ(near.found.size(), 1u);
+  EXPECT_NEAR(near.found[0][2], 0.3, 1e-12);  // distance from the centroid to the other skin
+  // size: mean edge (2 + sqrt 2)/3 times sqrt(0.5 * 0.3 / 0.5), at the centroid and the 3 nodes
+  ASSERT_EQ(near.sources.size(), 4u);
+  const double L = (2 + std::sqrt(2.0)) / 3;
+  for (const auto& s : near.sources) EXPECT_NEAR(s.h, L * std::sqrt(0.3), 1e-12);
+  EXPECT_NEAR(near.sources[0].p.x, 1.0 / 3, 1e-12);
+  EXPECT_EQ(nearestFaceSources(twoSkins(0.6), {{0, 0.5}}, 1e-3).flagged, 0);
+  // already at min-size: flagged but no source
+  const auto small = nearestFaceSources(twoSkins(0.3), {{0, 0.5}}, 1.0);
+  EXPECT_EQ(small.flagged, 1);
+  EXPECT_TRUE(small.sources.empty());
+}
+
+TEST(NearestFace, OtherFaceDeviationAndCadDistance) {
+  using namespace paramesh;
+  // the other skin's mesh at 0.7 (> 0.55, not flagged on the mesh alone); with a deviation of 0.2
+  // on that triangle its CAD face may be as near as 0.5, so the CAD distance decides
+  const SurfaceMesh m = twoSkins(0.7);
+  EXPECT_EQ(nearestFaceSources(m, {{0, 0.5}}, 1e-3).flagged, 0);
+  const std::vector<double> dev{0.0, 0.2};
+  int calls = 0;
+  const FaceDistance cadNear = [&](Vec3 c, int tri, Vec3 q) {
+    ++calls;
+    EXPECT_EQ(tri, 1);
+    EXPECT_NEAR(dist(c, q), 0.7, 1e-12);  // the closest point of the other face's mesh
+    return 0.45;
+  };
+  const auto r = nearestFaceSources(m, {{0, 0.5}}, 1e-3, &dev, cadNear);
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(r.flagged, 1);
+  EXPECT_NEAR(r.found[0][2], 0.45, 1e-12);
+  const FaceDistance cadFar = [](Vec3, int, Vec3) { return 0.65; };
+  EXPECT_EQ(nearestFaceSources(m, {{0, 0.5}}, 1e-3, &dev, cadFar).flagged, 0);
+  // a deviation too small to bring the CAD face within reach: no CAD query at all
+  const std::vector<double> dev2{0.0, 0.1};
+  calls = 0;
+  EXPECT_EQ(nearestFaceSources(m, {{0, 0.5}}, 1e-3, &dev2, cadNear).flagged, 0);
+  EXPECT_EQ(calls, 0);
 }

@@ -24,6 +24,9 @@ FIELDS = {
     "optimize_passes": ("count", "Passes of the 3D optimiser (swaps and smoothing)."),
     "proximity": ("count", "At least this many elements across thin walls and narrow faces (a first mesh "
                   "measures them). 0: off."),
+    "nearest_face_check": ("bool", "Refine triangles cut so deep into a thin part (more than 4.5 % of size) "
+                           "that their centroid lies nearer another CAD face than their own, and mesh "
+                           "again (at most 6 times). Off: coarse meshes keep their size conformity."),
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
@@ -163,6 +166,7 @@ class MeshParams:
     quads: bool = False
     optimize_passes: int = 4
     proximity: int = 0
+    nearest_face_check: bool = False
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
 
@@ -191,6 +195,8 @@ class MeshParams:
             raise TypeError(f"quads must be True or False, got {self.quads!r}")
         self.optimize_passes = _number("optimize_passes", self.optimize_passes, lo=0, hi=100, integer=True)
         self.proximity = _number("proximity", self.proximity, lo=0, hi=100, integer=True)
+        if not isinstance(self.nearest_face_check, bool):
+            raise TypeError(f"nearest_face_check must be True or False, got {self.nearest_face_check!r}")
         if isinstance(self.local_sizes, (dict, str, LocalSize)):
             self.local_sizes = [self.local_sizes]
         if isinstance(self.boundary_layers, (dict, BoundaryLayer)):
@@ -207,7 +213,7 @@ class MeshParams:
         from .. import _native
         n = _native.MeshParams()
         for name in ("size", "min_size", "max_size", "curvature_angle", "max_deviation", "grading",
-                     "threads", "order", "quads", "optimize_passes", "proximity"):
+                     "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check"):
             setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:

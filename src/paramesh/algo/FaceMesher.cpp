@@ -434,6 +434,14 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       }
       res.tris.push_back(r);
       res.triUv.push_back({C.toParam(T.verts[tr.v[0]].uv), C.toParam(T.verts[tr.v[1]].uv), C.toParam(T.verts[tr.v[2]].uv)});
+      if (opt.reportOffSurface && !C.planar) {
+        const Vec3 &A = T.verts[tr.v[0]].xyz, &B = T.verts[tr.v[1]].xyz, &D = T.verts[tr.v[2]].xyz;
+        const double L = (dist(A, B) + dist(B, D) + dist(D, A)) / 3.0;
+        if (O.deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) > 0.01 * L) {
+          const double d = O.deviation(tr.v[0], tr.v[1], tr.v[2]);
+          if (d > 0.02 * L) res.offSurface.push_back({(int)res.tris.size() - 1, d});
+        }
+      }
     }
     if (res.tris.empty() && res.quads.empty()) {
       res.error = "no triangle was produced";

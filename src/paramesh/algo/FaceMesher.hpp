@@ -44,6 +44,7 @@ struct FaceMeshOptions {
   int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
   bool quads = false;           ///< pair triangles into quads (quad-dominant)
   bool sliverPass = true;       ///< post-pass against triangles with angles below 30 degrees
+  bool reportOffSurface = false;  ///< fill FaceMeshResult::offSurface (nearest-face check)
   const SizeField* overlay = nullptr;  ///< extra face-local sizes (boundary-layer hand-off); min with the field
 };
 
@@ -61,6 +62,9 @@ struct FaceMeshResult {
   /// Boundary-layer spec (1-based) of each triangle / quad, 0 for the isotropic mesh; empty when
   /// the face has no layer.
   std::vector<int> triLayer, quadLayer;
+  /// Triangles (index in tris, centroid distance to the surface) whose centroid lies more than 2 %
+  /// of their mean edge off the surface: candidates for the nearest-face check.
+  std::vector<std::pair<int, double>> offSurface;
   int rejectedPoints = 0;
   int degenerateDropped = 0;
 };

@@ -56,6 +56,8 @@ class Optimizer {
 
   /// Distance from the centroid of triangle (a,b,c) to the surface (chordal deviation).
   double deviation(int a, int b, int c) const;
+  /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
+  double deviationEstimate(int a, int b, int c) const;
   /// Refines triangles whose chordal deviation exceeds maxDev (a length; 0: no absolute bound) or
   /// ratio times their mean 3D edge length (0: no relative bound): splits the free edge with the
   /// largest sag (the longest on a tie), or inserts the centroid. The part of a triangle's
@@ -72,8 +74,6 @@ class Optimizer {
  private:
   double edgeRatio(int a, int b) const;
   bool collapse(int t, int i);
-  /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
-  double deviationEstimate(int a, int b, int c) const;
   bool deviationOk(int a, int b, int c, double allowed) const;
   /// Puts V at the surface point nearest goal (projection started at `from`); false, V unchanged,
   /// when the projection fails or leaves the face.

@@ -19,7 +19,9 @@
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
+#include "paramesh/size/NearestFace.hpp"
 #include "paramesh/size/Proximity.hpp"
+#include "paramesh/util/SpatialGrid.hpp"
 #include "paramesh/size/SizeField.hpp"
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
@@ -41,6 +43,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // CAD edges shorter than this fraction of the size field (one segment) may become size sources
 constexpr double kShortSegment = 0.5;
+// the nearest-face check meshes again at most this many times
+constexpr int kNearestFaceRounds = 6;
 
 struct EdgeMesh {
   std::vector<double> t;
@@ -77,6 +81,8 @@ struct Mesher::Impl {
   std::vector<LayerLaw> blLaws;
   std::vector<EdgeBLPoints> blEnds;     ///< outermost-column points on non-BL edges
   std::vector<FaceBLResult::SpecStats> blStats;
+  std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
+  std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -183,6 +189,7 @@ struct Mesher::Impl {
     // a first surface mesh with the sizes so far tells where walls and faces are thin
     MeshParams q = p;
     q.proximity = 0;
+    q.nearestFaceCheck = false;
     q.order = 1;
     q.quads = false;
     q.optimizePasses = 1;
@@ -925,6 +932,7 @@ struct Mesher::Impl {
     // t/6 of its edge length off the surface: allow no more (10 degrees: 0.029)
     fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
     fo.minSplitLength = 0.5 * p.minSize;
+    fo.reportOffSurface = p.nearestFaceCheck;
     parallelFor(nf, threads, [&](int f) {
       progress.poll();
       Timer ft;
@@ -973,6 +981,13 @@ struct Mesher::Impl {
       }
       const int base = (int)mesh.nodes.size();
       for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
+      triDeviation.resize(mesh.triangles.size() + r.tris.size(), 0.0);
+      for (const auto& od : r.offSurface) {
+        const int t = (int)mesh.triangles.size() + od.first;
+        triDeviation[t] = od.second;
+        // deeper than 4.5 % of the mesh size; faces with boundary layers keep their rows as they are
+        if (r.triLayer.empty() && od.second > 0.045 * std::min(p.size, p.maxSize)) offSurface.push_back({t, od.second});
+      }
       const bool rev = model.faceReversed(f);
       for (size_t k = 0; k < r.tris.size(); ++k) {
         auto t = r.tris[k];
@@ -1007,6 +1022,61 @@ struct Mesher::Impl {
       fr.nodes = (int)r.newXyz.size();
     }
     stage("assemble", ta.seconds());
+  }
+
+  // ---------------------------------------------------------------- nearest-face check
+  /// Size sources for the triangles whose centroid is nearer another face than their own surface;
+  /// records how many there are.
+  std::vector<SizeSource> nearestFaceCheck() {
+    Timer tm;
+    // the other face's CAD distance: projection on its surface from the (u,v) of the nearest
+    // point of its mesh
+    std::vector<std::unique_ptr<ISurface>> surf(model.numFaces());
+    auto faceDistance = [&](Vec3 c, int tri, Vec3 q) {
+      const auto& T = mesh.triangles[tri];
+      const Vec3 &a = mesh.nodes[T[0]], &b = mesh.nodes[T[1]], &d = mesh.nodes[T[2]];
+      const double meshDist = dist(c, q);
+      const int f = mesh.triangleFace[tri] - 1;
+      try {
+        if (!surf[f]) surf[f] = model.makeSurface(f);
+        // barycentric coordinates of q
+        const Vec3 n = cross(b - a, d - a);
+        const double n2 = norm2(n);
+        if (!(n2 > 0)) return meshDist;
+        const double wb = dot(cross(q - a, d - a), n) / n2, wd = dot(cross(b - a, q - a), n) / n2;
+        const auto& uv = triUv[tri];
+        Vec2 s = (1 - wb - wd) * uv[0] + wb * uv[1] + wd * uv[2];
+        Vec3 x;
+        if (!surf[f]->project(c, s, &x)) return meshDist;
+        return dist(c, x);
+      } catch (...) {
+        return meshDist;
+      }
+    };
+    const NearestFaceResult r = nearestFaceSources(mesh, offSurface, p.minSize, &triDeviation, faceDistance);
+    report.nearestFaceFlagged.push_back(r.flagged);
+    if (r.flagged)
+      log.info("nearest-face check: " + std::to_string(r.flagged) +
+               " triangles lie nearer another face than their own" +
+               (r.sources.empty() ? " (already at min-size)" : ": refined"));
+    stage("nearest_face_check", tm.seconds());
+    return r.sources;
+  }
+  /// Back to the state before the edges were discretised (the size field is set by the caller).
+  void resetMesh() {
+    SurfaceMesh m;
+    m.numFaces = mesh.numFaces;
+    m.numEdges = mesh.numEdges;
+    m.numVertices = mesh.numVertices;
+    mesh = std::move(m);
+    edges.clear();
+    vertexNode.clear();
+    triUv.clear();
+    quadUv.clear();
+    segmentT.clear();
+    offSurface.clear();
+    triDeviation.clear();
+    blStats.assign(blStats.size(), FaceBLResult::SpecStats());
   }
 
   void secondOrder() {
@@ -1083,16 +1153,29 @@ MeshOutput Mesher::run() {
   d.buildSizeField();
   if (d.p.proximity > 0) d.addProximitySources();
   d.planBoundaryLayers();
-  d.progress.report(0.05, "edges");
-  {
-    Timer te;
-    d.discretizeEdges();
-    d.stage("edges", te.seconds());
+  // the field so far; the nearest-face check adds its sources to it and the mesh is redone
+  const SizeField field0 = d.p.nearestFaceCheck ? d.field : SizeField();
+  std::vector<SizeSource> extra;
+  for (int round = 0;; ++round) {
+    d.progress.report(0.05, "edges");
+    {
+      Timer te;
+      d.discretizeEdges();
+      d.stage("edges", te.seconds());
+    }
+    d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +
+               std::to_string(d.field.numSources()) + " size sources");
+    d.progress.report(0.15, "faces");
+    d.meshFaces();
+    if (!d.p.nearestFaceCheck) break;
+    const auto src = d.nearestFaceCheck();
+    if (src.empty() || round == kNearestFaceRounds) break;
+    extra.insert(extra.end(), src.begin(), src.end());
+    d.resetMesh();
+    d.field = field0;
+    for (const SizeSource& s : extra) d.field.addSource(s.p, std::max(s.h, d.p.minSize));
+    d.field.build();
   }
-  d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +
-             std::to_string(d.field.numSources()) + " size sources");
-  d.progress.report(0.15, "faces");
-  d.meshFaces();
   if (d.p.order == 2) d.secondOrder();
   d.finish();
   d.stage("total", total.seconds());

@@ -41,6 +41,10 @@ struct MeshParams {
   bool quads = false;         ///< quad-dominant surface mesh
   bool shortEdgeSources = true;  ///< segments much shorter than the size field refine their surroundings
   int proximity = 0;          ///< at least this many elements across thin walls / narrow faces; 0: off
+  /// Triangles cut more than 4.5 % of the size deep into a thin part, so that their centroid lies
+  /// nearer another CAD face than their own, are refined: the mesh is redone with sizes there, at
+  /// most 6 times. Off by default (it trades size conformity for fidelity on coarse meshes).
+  bool nearestFaceCheck = false;
   int optimizePasses = 4;     ///< passes of the 3D optimiser (swap + smooth + split/collapse)
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;

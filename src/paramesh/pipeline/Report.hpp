@@ -70,6 +70,9 @@ struct Report {
   int order = 1;
   int midNodes = 0, straightenedMidNodes = 0;  ///< second order: created / put back on the chord
   double minScaledJacobian = 1;                ///< second order: worst curved element (1 = straight)
+  /// nearest-face check: triangles found nearer another face than their own, per meshing round
+  /// (the last entry is the final mesh's count; one entry when the first mesh had none)
+  std::vector<int> nearestFaceFlagged;
   size_t sizeSources = 0;
   std::vector<FaceReport> faces;
   std::vector<BoundaryLayerReport> boundaryLayers;

@@ -31,6 +31,12 @@ Json reportToJson(const Report& r) {
   cnt["triangles"] = r.triangles;
   cnt["quads"] = r.quads;
   cnt["size_sources"] = r.sizeSources;
+  if (!r.nearestFaceFlagged.empty()) {
+    Json& nf = j["nearest_face_check"];
+    Json& rounds = nf["flagged_per_round"];
+    for (int k : r.nearestFaceFlagged) rounds.push(k);
+    nf["remaining"] = r.nearestFaceFlagged.back();
+  }
   if (r.order == 2) {
     Json& ho = j["second_order"];
     ho["mid_nodes"] = r.midNodes;

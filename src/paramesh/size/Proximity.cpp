@@ -6,74 +6,10 @@
 #include <map>
 #include <unordered_map>
 
+#include "paramesh/util/SpatialGrid.hpp"
+
 namespace paramesh {
 
-namespace {
-
-/// Closest point to p on segment [a,b].
-Vec3 closestOnSegment(Vec3 p, Vec3 a, Vec3 b) {
-  const Vec3 d = b - a;
-  const double l2 = norm2(d);
-  if (!(l2 > 0)) return a;
-  const double t = std::clamp(dot(p - a, d) / l2, 0.0, 1.0);
-  return a + t * d;
-}
-
-/// Closest point to p on triangle (a,b,c).
-Vec3 closestOnTriangle(Vec3 p, Vec3 a, Vec3 b, Vec3 c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double den = 1.0 / (va + vb + vc);
-  return a + (vb * den) * ab + (vc * den) * ac;
-}
-
-/// Uniform hash grid of boxes (triangles or segments) for radius queries.
-class Grid {
- public:
-  explicit Grid(double cell) : cell_(cell) {}
-  void add(int id, Vec3 lo, Vec3 hi) {
-    const auto a = key(lo), b = key(hi);
-    for (long i = a[0]; i <= b[0]; ++i)
-      for (long j = a[1]; j <= b[1]; ++j)
-        for (long k = a[2]; k <= b[2]; ++k) cells_[pack(i, j, k)].push_back(id);
-  }
-  template <class F>
-  void query(Vec3 p, double r, F&& f) const {
-    const auto a = key(p - Vec3{r, r, r}), b = key(p + Vec3{r, r, r});
-    for (long i = a[0]; i <= b[0]; ++i)
-      for (long j = a[1]; j <= b[1]; ++j)
-        for (long k = a[2]; k <= b[2]; ++k) {
-          auto it = cells_.find(pack(i, j, k));
-          if (it == cells_.end()) continue;
-          for (int id : it->second) f(id);
-        }
-  }
-
- private:
-  std::array<long, 3> key(Vec3 p) const {
-    return {(long)std::floor(p.x / cell_), (long)std::floor(p.y / cell_), (long)std::floor(p.z / cell_)};
-  }
-  static uint64_t pack(long i, long j, long k) {
-    return ((uint64_t)(i & 0x1FFFFF) << 42) | ((uint64_t)(j & 0x1FFFFF) << 21) | (uint64_t)(k & 0x1FFFFF);
-  }
-  double cell_;
-  std::unordered_map<uint64_t, std::vector<int>> cells_;
-};
-
-}  // namespace
 
 std::vector<SizeSource> proximitySources(const SurfaceMesh& m, int n, double hmax, double hmin) {
   std::vector<SizeSource> out;
@@ -90,7 +26,7 @@ std::vector<SizeSource> proximitySources(const SurfaceMesh& m, int n, double hma
   }
   // 1) facing surfaces: from each triangle centroid, the nearest triangle of another face whose
   //    normal is opposite and which lies behind (inside the wall)
-  Grid grid(std::max(reach, 1e-12));
+  BoxGrid grid(std::max(reach, 1e-12));
   for (size_t t = 0; t < nt; ++t) {
     const auto& T = m.triangles[t];
     Box3 b;
@@ -149,7 +85,7 @@ std::vector<SizeSource> proximitySources(const SurfaceMesh& m, int n, double hma
       nodeSegs[segs[s].a].push_back((int)s);
       nodeSegs[segs[s].b].push_back((int)s);
     }
-    Grid sg(std::max(reach, 1e-12));
+    BoxGrid sg(std::max(reach, 1e-12));
     for (size_t s = 0; s < segs.size(); ++s) {
       Box3 b;
       b.add(m.nodes[segs[s].a]);

@@ -37,6 +37,7 @@ class SurfaceMesh(BaseProxy):
                      enum=["1st", "2nd"])
         add_property(obj, "App::PropertyBool", "Quads", GROUP, _tip("quads"), False)
         add_property(obj, "App::PropertyInteger", "Proximity", GROUP, _tip("proximity"), 0)
+        add_property(obj, "App::PropertyBool", "NearestFaceCheck", GROUP, _tip("nearest_face_check"), False)
         add_property(obj, "App::PropertyInteger", "Threads", GROUP, _tip("threads"), 0)
         add_property(obj, "App::PropertyInteger", "OptimizePasses", GROUP, _tip("optimize_passes"), 4)
         add_property(obj, "App::PropertyLinkList", "BoundaryLayerList", GROUP,
@@ -60,7 +61,8 @@ class SurfaceMesh(BaseProxy):
                        grading=float(obj.Grading), threads=int(obj.Threads),
                        order=2 if obj.ElementOrder == "2nd" else 1, quads=bool(obj.Quads),
                        optimize_passes=int(obj.OptimizePasses),
-                       proximity=int(getattr(obj, "Proximity", 0)))
+                       proximity=int(getattr(obj, "Proximity", 0)),
+                       nearest_face_check=bool(getattr(obj, "NearestFaceCheck", False)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
