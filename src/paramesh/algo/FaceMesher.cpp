@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "paramesh/algo/FaceMesher.hpp"
 
+#include "paramesh/util/SpatialGrid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -424,6 +426,21 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
                               C.toParam(T.verts[qp.quad[2]].uv), C.toParam(T.verts[qp.quad[3]].uv)});
       }
     }
+    // the face's boundary in 3D (constrained edges), built when first needed: the distance to the
+    // trimmed face of a point whose projection's foot falls outside the face
+    std::vector<std::array<Vec3, 2>> rim;
+    auto rimDistance = [&](Vec3 x) {
+      if (rim.empty())
+        for (size_t t = 0; t < T.tris.size(); ++t) {
+          if (T.tris[t].dead) continue;
+          for (int i = 0; i < 3; ++i)
+            if (T.isConstrained((int)t, i))
+              rim.push_back({T.verts[T.tris[t].v[(i + 1) % 3]].xyz, T.verts[T.tris[t].v[(i + 2) % 3]].xyz});
+        }
+      double best = 1e300;
+      for (const auto& sg : rim) best = std::min(best, dist(x, closestOnSegment(x, sg[0], sg[1])));
+      return best;
+    };
     for (size_t ti = 0; ti < T.tris.size(); ++ti) {
       const Triangle& tr = T.tris[ti];
       if (tr.dead || paired[ti]) continue;
@@ -438,7 +455,11 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         const Vec3 &A = T.verts[tr.v[0]].xyz, &B = T.verts[tr.v[1]].xyz, &D = T.verts[tr.v[2]].xyz;
         const double L = (dist(A, B) + dist(B, D) + dist(D, A)) / 3.0;
         if (O.deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) > 0.01 * L) {
-          const double d = O.deviation(tr.v[0], tr.v[1], tr.v[2]);
+          double d = O.deviation(tr.v[0], tr.v[1], tr.v[2]);
+          const Vec3 g = (1.0 / 3) * (A + B + D);
+          Vec2 s = (1.0 / 3) * (T.verts[tr.v[0]].uv + T.verts[tr.v[1]].uv + T.verts[tr.v[2]].uv);
+          Vec3 foot;
+          if (d > 0.02 * L && C.project(g, s, foot) && !C.inDomain(s)) d = std::max(d, rimDistance(g));
           if (d > 0.02 * L) res.offSurface.push_back({(int)res.tris.size() - 1, d});
         }
       }

@@ -62,8 +62,10 @@ struct FaceMeshResult {
   /// Boundary-layer spec (1-based) of each triangle / quad, 0 for the isotropic mesh; empty when
   /// the face has no layer.
   std::vector<int> triLayer, quadLayer;
-  /// Triangles (index in tris, centroid distance to the surface) whose centroid lies more than 2 %
-  /// of their mean edge off the surface: candidates for the nearest-face check.
+  /// Triangles (index in tris, centroid distance to the face) whose centroid lies more than 2 % of
+  /// their mean edge off the face: candidates for the nearest-face check. The distance is the
+  /// projection's, or the distance to the face's boundary when the projection's foot falls
+  /// outside the trimmed face (a fillet's chord next to its edge).
   std::vector<std::pair<int, double>> offSurface;
   int rejectedPoints = 0;
   int degenerateDropped = 0;

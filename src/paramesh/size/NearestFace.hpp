@@ -15,7 +15,9 @@
 
 namespace paramesh {
 
-/// A triangle whose centroid lies `deviation` off its own surface (measured by the face mesher).
+/// A triangle whose centroid lies `deviation` off its own face (measured by the face mesher: the
+/// projection on its surface, or the distance to the face's boundary when the projection's foot
+/// falls outside the trimmed face).
 struct OffSurfaceTriangle {
   int tri = -1;
   double deviation = 0;
