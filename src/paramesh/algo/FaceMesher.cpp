@@ -426,19 +426,13 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
                               C.toParam(T.verts[qp.quad[2]].uv), C.toParam(T.verts[qp.quad[3]].uv)});
       }
     }
-    // the face's boundary in 3D (constrained edges), built when first needed: the distance to the
-    // trimmed face of a point whose projection's foot falls outside the face
-    std::vector<std::array<Vec3, 2>> rim;
+    // distance to the face's boundary loops in 3D: the distance to the trimmed face of a point
+    // whose projection's foot falls outside the face
     auto rimDistance = [&](Vec3 x) {
-      if (rim.empty())
-        for (size_t t = 0; t < T.tris.size(); ++t) {
-          if (T.tris[t].dead) continue;
-          for (int i = 0; i < 3; ++i)
-            if (T.isConstrained((int)t, i))
-              rim.push_back({T.verts[T.tris[t].v[(i + 1) % 3]].xyz, T.verts[T.tris[t].v[(i + 2) % 3]].xyz});
-        }
       double best = 1e300;
-      for (const auto& sg : rim) best = std::min(best, dist(x, closestOnSegment(x, sg[0], sg[1])));
+      for (const auto& loop : boundary.loops)
+        for (size_t i = 0; i < loop.size(); ++i)
+          best = std::min(best, dist(x, closestOnSegment(x, loop[i].xyz, loop[(i + 1) % loop.size()].xyz)));
       return best;
     };
     for (size_t ti = 0; ti < T.tris.size(); ++ti) {
@@ -455,11 +449,9 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         const Vec3 &A = T.verts[tr.v[0]].xyz, &B = T.verts[tr.v[1]].xyz, &D = T.verts[tr.v[2]].xyz;
         const double L = (dist(A, B) + dist(B, D) + dist(D, A)) / 3.0;
         if (O.deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) > 0.01 * L) {
-          double d = O.deviation(tr.v[0], tr.v[1], tr.v[2]);
-          const Vec3 g = (1.0 / 3) * (A + B + D);
-          Vec2 s = (1.0 / 3) * (T.verts[tr.v[0]].uv + T.verts[tr.v[1]].uv + T.verts[tr.v[2]].uv);
-          Vec3 foot;
-          if (d > 0.02 * L && C.project(g, s, foot) && !C.inDomain(s)) d = std::max(d, rimDistance(g));
+          bool footOutside = false;
+          double d = O.deviation(tr.v[0], tr.v[1], tr.v[2], &footOutside);
+          if (d > 0.02 * L && footOutside) d = std::max(d, rimDistance((1.0 / 3) * (A + B + D)));
           if (d > 0.02 * L) res.offSurface.push_back({(int)res.tris.size() - 1, d});
         }
       }

@@ -38,14 +38,16 @@ bool Optimizer::valid(int ia, int ib, int ic) const {
   return true;
 }
 
-double Optimizer::deviation(int ia, int ib, int ic) const {
+double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside) const {
+  if (footOutside) *footOutside = false;
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return 0;
   if (C_.planar) return 0;
   const Vec3 g = (1.0 / 3) * (a.xyz + b.xyz + c.xyz);
   Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
   Vec3 p;
-  C_.project(g, s, p);
+  const bool ok = C_.project(g, s, p);
+  if (footOutside) *footOutside = ok && !C_.inDomain(s);
   return dist(p, g);
 }
 

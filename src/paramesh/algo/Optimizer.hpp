@@ -55,7 +55,8 @@ class Optimizer {
   void run(int passes);
 
   /// Distance from the centroid of triangle (a,b,c) to the surface (chordal deviation).
-  double deviation(int a, int b, int c) const;
+  /// footOutside (optional): set when the projection converged to a point outside the trimmed face.
+  double deviation(int a, int b, int c, bool* footOutside = nullptr) const;
   /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
   double deviationEstimate(int a, int b, int c) const;
   /// Refines triangles whose chordal deviation exceeds maxDev (a length; 0: no absolute bound) or

@@ -21,7 +21,6 @@
 #include "paramesh/model/FaceDomain.hpp"
 #include "paramesh/size/NearestFace.hpp"
 #include "paramesh/size/Proximity.hpp"
-#include "paramesh/util/SpatialGrid.hpp"
 #include "paramesh/size/SizeField.hpp"
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
