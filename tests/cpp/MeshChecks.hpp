@@ -114,8 +114,27 @@ inline MeshStats measure(const SurfaceMesh& m, const IGeometryModel& g, double h
         break;
       }
     if (!have) {
-      uv = surf[f]->bounds().u0 == 0 && false ? Vec2{} : Vec2{};
-      if (!surf[f]->projectGlobal((a + b + c) * (1.0 / 3), uv)) continue;
+      // no face node: project the centroid; from a coarse global start Newton can stop at a
+      // local minimum on the domain's edge (the bottle's thread flank, whose normal turns over
+      // at its end), so check the foot and search densely when it is off
+      const Vec3 cen = (a + b + c) * (1.0 / 3);
+      const double lmax = std::max({dist(a, b), dist(b, c), dist(c, a)});
+      Vec3 foot;
+      if (!surf[f]->projectGlobal(cen, uv, &foot) || dist(foot, cen) > 0.05 * lmax) {
+        const UVBox bx = surf[f]->bounds();
+        double best = 1e300;
+        const int n = 400;
+        for (int i = 0; i <= n; ++i)
+          for (int j = 0; j <= n; ++j) {
+            const Vec2 q{bx.u0 + (bx.u1 - bx.u0) * i / n, bx.v0 + (bx.v1 - bx.v0) * j / n};
+            const double dd = dist(surf[f]->eval(q), cen);
+            if (dd < best) {
+              best = dd;
+              uv = q;
+            }
+          }
+        if (!surf[f]->project(cen, uv, &foot) || dist(foot, cen) > 0.5 * lmax) continue;
+      }
     }
     Vec3 n;
     if (!surf[f]->normal(uv, n)) continue;

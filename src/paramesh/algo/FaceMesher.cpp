@@ -344,59 +344,81 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     // free edge of the poor triangles on three boundary nodes, or on two, or collapse the free
     // apex of the poor triangles; each is re-optimised, and the one leaving the fewest poor
     // triangles is kept only if it has fewer than before.
+    int repaired = 0;
+    // The trials are local: swaps, smoothing and the count of poor triangles run over two edge
+    // rings around the candidates (Optimizer::setRegion), so a repair costs O(region).
     for (int round = 0; opt.sliverPass && opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
-      int best = O.countPoorAngles();
-      if (best == 0) break;
+      const int total = O.countPoorAngles();
+      if (total == 0) break;
+      std::vector<int> poorTris;
+      for (int t = 0; t < (int)T.tris.size(); ++t)
+        if (!T.tris[t].dead && O.poorAngle(t)) poorTris.push_back(t);
+      const std::vector<char> region = O.regionAround(poorTris, 2);
       const Triangulation start = T;
       Triangulation kept;
+      int best = total;
       bool improved = false;
       for (int variant : {3, 2, 0}) {
         if (variant != 3) T = start;
+        O.setRegion(region);
         if ((variant > 0 ? O.splitBoundarySlivers(variant) : O.collapsePoorApexes()) == 0) continue;
-        for (int p = 0; p < 1; ++p) {
-          const int f = O.swapPass();
-          const int m = O.smoothPass();
-          if (f == 0 && m == 0) break;
-        }
         O.swapPass();
-        const int c = O.countPoorAngles();
+        O.smoothPass();
+        O.swapPass();
+        const int c = total + O.countPoorAngles() - Optimizer::countPoorAngles(start, O.region());
         if (c < best) {
           best = c;
           kept = T;
           improved = true;
         }
       }
+      O.setRegion({});
       T = improved ? std::move(kept) : start;
       if (!improved) break;
+      ++repaired;
     }
-    // What the batches left, one triangle at a time (faces small enough for a whole-face count
-    // per trial): split, else collapse, kept only when the face has fewer poor triangles after.
+    // What the batches left, one triangle at a time (faces small enough for a copy of the face
+    // per trial): split, collapse, relocate or flip, kept when the poor triangles around drop.
     if (opt.sliverPass && opt.optimizePasses > 0 && kPerCandidate) {
       std::vector<int> cands;
       for (int t = 0; t < (int)T.tris.size(); ++t)
         if (!T.tris[t].dead && O.poorAngle(t)) cands.push_back(t);
       if (!cands.empty() && (double)cands.size() * (double)T.tris.size() <= kPerCandidateBudget) {
-        int poor = O.countPoorAngles();
         for (int t : cands) {
           if (T.tris[t].dead || !O.poorAngle(t)) continue;
-          for (int action = 0; action < 3; ++action) {
+          const std::vector<char> region = O.regionAround({t}, 2);
+          for (int action = 0; action < 4; ++action) {
             Triangulation backup = T;
+            O.setRegion(region);
             const bool done = action == 0 ? O.splitLongestFree(t) >= 0
                               : action == 1 ? O.collapseApex(t)
-                                            : O.relocateForAngles(t);
-            if (!done) continue;
+                              : action == 2 ? O.relocateForAngles(t)
+                                            : O.flipForAngles(t);
+            if (!done) {
+              O.setRegion({});
+              continue;
+            }
+            // after a flip, smoothing first: a swap pass would undo it
+            if (action == 3) O.smoothPass();
             O.swapPass();
             O.smoothPass();
             O.swapPass();
-            const int c = O.countPoorAngles();
-            if (c < poor) {
-              poor = c;
+            const bool better = O.countPoorAngles() < Optimizer::countPoorAngles(backup, O.region());
+            O.setRegion({});
+            if (better) {
+              ++repaired;
               break;
             }
             T = std::move(backup);
           }
         }
       }
+    }
+    // the repairs were local: one more pass over the whole face lets their surroundings settle
+    if (repaired > 0) {
+      O.swapPass();
+      O.smoothPass();
+      O.swapPass();
     }
     if ((opt.maxDeviation > 0 || opt.maxDeviationRatio > 0) &&
         O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength) > 0) {

@@ -2,6 +2,7 @@
 #include "paramesh/algo/Optimizer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "paramesh/algo/Predicates.hpp"
@@ -161,7 +162,7 @@ int Optimizer::swapPass() {
   int flips = 0;
   for (int t = 0; t < (int)T_.tris.size(); ++t) {
     poll(t);
-    if (T_.tris[t].dead) continue;
+    if (T_.tris[t].dead || !triInRegion(t)) continue;
     for (int i = 0; i < 3; ++i) {
       const Triangle& tr = T_.tris[t];
       const int u = tr.n[i];
@@ -186,6 +187,7 @@ int Optimizer::swapPass() {
         if (!deviationOk(a, b, d, allowed) || !deviationOk(a, d, c, allowed)) continue;
       }
       if (T_.flip(t, i)) {
+        for (int v : {a, b, c, d}) addToRegion(v);
         ++flips;
         i = -1;  // triangle t changed: rescan its edges
       }
@@ -228,7 +230,7 @@ int Optimizer::smoothPass() {
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
     poll(v);
     TriVertex& V = T_.verts[v];
-    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) continue;
+    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0 || !inRegion(v)) continue;
     bool closed = true;
     T_.ring(v, ring_, &closed);
     if (!closed || ring_.size() < 3) continue;
@@ -590,11 +592,72 @@ bool Optimizer::relocateForAngles(int t) {
   return movedAny;
 }
 
-int Optimizer::countPoorAngles() const {
+bool Optimizer::flipForAngles(int t) {
+  int bestI = -1;
+  double best = -1;
+  const Triangle& tr = T_.tris[t];
+  const double old = sinMinAngle(T_.verts[tr.v[0]].xyz, T_.verts[tr.v[1]].xyz, T_.verts[tr.v[2]].xyz);
+  for (int i = 0; i < 3; ++i) {
+    const int u = tr.n[i];
+    if (u < 0 || T_.isConstrained(t, i)) continue;
+    const int j = T_.edgeTo(u, t);
+    if (j < 0) continue;
+    const int a = tr.v[i], b = tr.v[nx(i)], c = tr.v[pv(i)], d = T_.tris[u].v[j];
+    if (!valid(a, b, d) || !valid(a, d, c)) continue;
+    const TriVertex &A = T_.verts[a], &B = T_.verts[b], &Cc = T_.verts[c], &D = T_.verts[d];
+    const Vec3 m0 = normalized(cross(B.xyz - A.xyz, D.xyz - A.xyz));
+    const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
+    if (dot(m0, m1) < 0.984807753) continue;  // crease guard (10 degrees)
+    const double q = std::min(sinMinAngle(A.xyz, B.xyz, D.xyz), sinMinAngle(A.xyz, D.xyz, Cc.xyz));
+    if (q > best) {
+      best = q;
+      bestI = i;
+    }
+  }
+  if (bestI < 0 || best < std::min(old, 0.5) * 0.5) return false;
+  return T_.flip(t, bestI);
+}
+
+int Optimizer::countPoorAngles() const { return countPoorAngles(T_, region_); }
+
+int Optimizer::countPoorAngles(const Triangulation& T, const std::vector<char>& region) {
+  auto in = [&](int v) { return region.empty() || v >= (int)region.size() || region[v]; };
   int n = 0;
-  for (int t = 0; t < (int)T_.tris.size(); ++t)
-    if (!T_.tris[t].dead && poorAngle(t)) ++n;
+  for (const Triangle& tr : T.tris) {
+    if (tr.dead || !(in(tr.v[0]) || in(tr.v[1]) || in(tr.v[2]))) continue;
+    const TriVertex &a = T.verts[tr.v[0]], &b = T.verts[tr.v[1]], &c = T.verts[tr.v[2]];
+    if ((a.flags | b.flags | c.flags) & VF_POLE) {
+      if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) continue;
+    }
+    if (sinMinAngle(a.xyz, b.xyz, c.xyz) < 0.5) ++n;
+  }
   return n;
+}
+
+std::vector<char> Optimizer::regionAround(const std::vector<int>& tris, int rings) const {
+  std::vector<char> in(T_.verts.size(), 0);
+  std::vector<int> front, next, rg;
+  for (int t : tris)
+    for (int v : T_.tris[t].v)
+      if (!in[v]) {
+        in[v] = 1;
+        front.push_back(v);
+      }
+  for (int r = 0; r < rings; ++r) {
+    next.clear();
+    for (int v : front) {
+      if (T_.verts[v].tri < 0) continue;
+      T_.ring(v, rg);
+      for (int t : rg)
+        for (int w : T_.tris[t].v)
+          if (!in[w]) {
+            in[w] = 1;
+            next.push_back(w);
+          }
+    }
+    front.swap(next);
+  }
+  return in;
 }
 
 int Optimizer::boundaryVertices(int t) const {
@@ -642,37 +705,36 @@ int Optimizer::collapsePoorApexes() {
 }
 
 bool Optimizer::collapseApex(int t) {
-  const Triangle& tr = T_.tris[t];
-  // the vertex with the largest angle (a cap standing on the opposite edge)
-  int k = -1;
-  double bestCos = 2;
+  // free vertices by decreasing angle (a cap's apex stands on the opposite edge), each collapsed
+  // onto a neighbour in t, the nearer first
+  const Triangle tr = T_.tris[t];
+  std::array<std::pair<double, int>, 3> byAngle;
   for (int j = 0; j < 3; ++j) {
     const Vec3 p = T_.verts[tr.v[j]].xyz;
     const Vec3 u = normalized(T_.verts[tr.v[nx(j)]].xyz - p), w = normalized(T_.verts[tr.v[pv(j)]].xyz - p);
-    const double c = dot(u, w);
-    if (c < bestCos) {
-      bestCos = c;
-      k = j;
-    }
+    byAngle[j] = {dot(u, w), j};  // cosine: smallest first = largest angle first
   }
-  const int vk = tr.v[k];
-  if (T_.verts[vk].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) return false;
-  // its two edges in t, shorter first
-  int e1 = nx(k), e2 = pv(k);  // edge e contains k when e != k
-  const double l1 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e1)] == vk ? tr.v[nx(e1)] : tr.v[pv(e1)]].xyz);
-  const double l2 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(e2)] == vk ? tr.v[nx(e2)] : tr.v[pv(e2)]].xyz);
-  if (l2 < l1) std::swap(e1, e2);
-  for (int i : {e1, e2}) {
-    const Triangle& R = T_.tris[t];
-    if (T_.isConstrained(t, i)) continue;
-    int tt = t, ii = i;
-    if (R.v[nx(i)] != vk) {
-      tt = R.n[i];
-      if (tt < 0) continue;
-      ii = T_.edgeTo(tt, t);
-      if (ii < 0 || T_.tris[tt].v[nx(ii)] != vk) continue;
+  std::sort(byAngle.begin(), byAngle.end());
+  for (const auto& ba : byAngle) {
+    const int k = ba.second;
+    const int vk = tr.v[k];
+    if (T_.verts[vk].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) continue;
+    // its two edges in t (edge e contains k when e != k), shorter first
+    int e1 = nx(k), e2 = pv(k);
+    const double l1 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(k)]].xyz);  // edge nx(k) = (k, pv(k))
+    const double l2 = dist(T_.verts[vk].xyz, T_.verts[tr.v[nx(k)]].xyz);  // edge pv(k) = (nx(k), k)
+    if (l2 < l1) std::swap(e1, e2);
+    for (int i : {e1, e2}) {
+      if (T_.isConstrained(t, i)) continue;
+      int tt = t, ii = i;
+      if (tr.v[nx(i)] != vk) {
+        tt = tr.n[i];
+        if (tt < 0) continue;
+        ii = T_.edgeTo(tt, t);
+        if (ii < 0 || T_.tris[tt].v[nx(ii)] != vk) continue;
+      }
+      if (collapse(tt, ii)) return true;
     }
-    if (collapse(tt, ii)) return true;
   }
   return false;
 }

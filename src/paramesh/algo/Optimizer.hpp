@@ -9,6 +9,8 @@
 #include "paramesh/algo/Triangulation.hpp"
 #include "paramesh/util/Log.hpp"
 
+#include <vector>
+
 namespace paramesh {
 
 class Optimizer {
@@ -39,6 +41,10 @@ class Optimizer {
   /// Moves the free vertices of t (to their ring's centroid, its equilateral apexes' mean, or
   /// halfway) when that raises the smallest angle of their ring; true when one moved.
   bool relocateForAngles(int t);
+  /// Flips the free edge of t whose flip gives the pair the largest smallest angle, when the new
+  /// pair is valid, keeps the crease guard and is no worse than min(old pair, 30 degrees) (a step
+  /// the quality-driven swap pass would not take, for the smoothing after it); true when flipped.
+  bool flipForAngles(int t);
   /// Splits the longest free edge of every triangle with at least minBoundary vertices on the
   /// boundary and a smallest angle below 30 degrees. Returns the number of splits.
   int splitBoundarySlivers(int minBoundary = 3);
@@ -53,6 +59,18 @@ class Optimizer {
   int boundaryVertices(int t) const;
   /// The default schedule: split/collapse, then alternate swaps and smoothing.
   void run(int passes);
+
+  /// Restricts swapPass, smoothPass and countPoorAngles to the triangles with a vertex in the
+  /// region (one flag per vertex; empty: the whole face). Vertices added later count as inside,
+  /// and each flip adds its four vertices, so every triangle an operation changes stays inside:
+  /// local repairs then cost O(region), not O(face).
+  void setRegion(std::vector<char> region) { region_ = std::move(region); }
+  const std::vector<char>& region() const { return region_; }
+  /// Vertices within `rings` edge rings of the given triangles' vertices (a region flag vector).
+  std::vector<char> regionAround(const std::vector<int>& tris, int rings) const;
+  /// Triangles of T below 30 degrees with a vertex in `region` (empty: all), e.g. a copy of the
+  /// triangulation before a local repair, to compare with countPoorAngles() over the same region.
+  static int countPoorAngles(const Triangulation& T, const std::vector<char>& region);
 
   /// Distance from the centroid of triangle (a,b,c) to the surface (chordal deviation).
   /// footOutside (optional): set when the projection converged to a point outside the trimmed face.
@@ -95,6 +113,15 @@ class Optimizer {
   double maxDev_ = 0;    ///< absolute deviation bound; 0: none
   double devRatio_ = 0;  ///< deviation bound relative to the mean edge length; 0: none
   std::vector<double> gap_;
+  std::vector<char> region_;
+  bool inRegion(int v) const { return region_.empty() || v >= (int)region_.size() || region_[v]; }
+  bool triInRegion(int t) const {
+    const Triangle& tr = T_.tris[t];
+    return inRegion(tr.v[0]) || inRegion(tr.v[1]) || inRegion(tr.v[2]);
+  }
+  void addToRegion(int v) {
+    if (!region_.empty() && v < (int)region_.size()) region_[v] = 1;
+  }
   const Progress* progress_ = nullptr;
   void poll(int i) const {
     if (progress_ && (i & 1023) == 0) progress_->poll();

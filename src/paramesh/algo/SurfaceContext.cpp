@@ -35,7 +35,9 @@ void SurfaceContext::fill(TriVertex& v) const {
   surf.d1(q, p, du, dv);
   Vec3 n = cross(du, dv);
   const double ln = norm(n);
-  if (ln > 1e-14 * norm(du) * norm(dv) && ln > 0) {
+  // at a pole one derivative all but vanishes and the cross product's sign is round-off:
+  // ISurface::normal then takes the normal from just inside the domain
+  if (ln > 1e-10 * (norm2(du) + norm2(dv)) && ln > 0) {
     v.normal = n * (1.0 / ln);
   } else {
     Vec3 nn;

@@ -27,7 +27,9 @@ bool ISurface::normal(Vec2 uv, Vec3& n) const {
   d1(uv, p, du, dv);
   Vec3 c = cross(du, dv);
   double lc = norm(c), l1 = norm(du), l2 = norm(dv);
-  if (lc > 1e-12 * std::max(l1 * l2, 1e-300)) {
+  // singular when one derivative vanishes next to the other (a pole: |S_u| ~ 1e-16 |S_v|, and
+  // its sign flips with round-off in u or v just past the pole)
+  if (lc > 1e-10 * std::max(l1 * l1 + l2 * l2, 1e-300)) {
     n = c * (1.0 / lc);
     return true;
   }

@@ -60,11 +60,16 @@ CurveSampling sampleCurve(const ICurve& c, double t0, double t1, const SizeField
 
 std::vector<double> discretizeCurve(const CurveSampling& cs, const SizeField& field, int minSegments,
                                     double maxTurn) {
+  return discretizeCurve(cs, [&field](Vec3 x) { return field.size(x); }, minSegments, maxTurn);
+}
+
+std::vector<double> discretizeCurve(const CurveSampling& cs, const std::function<double(Vec3)>& size, int minSegments,
+                                    double maxTurn) {
   const size_t m = cs.t.size();
   std::vector<double> F(m, 0.0);
-  double prev = 1.0 / field.size(cs.p[0]);
+  double prev = 1.0 / size(cs.p[0]);
   for (size_t i = 1; i < m; ++i) {
-    const double cur = 1.0 / field.size(cs.p[i]);
+    const double cur = 1.0 / size(cs.p[i]);
     F[i] = F[i - 1] + 0.5 * (prev + cur) * (cs.s[i] - cs.s[i - 1]);
     prev = cur;
   }

@@ -3,6 +3,7 @@
 /// Discretises a CAD edge once, by 3D length against the size field: the integral of ds/h along
 /// the curve is equidistributed. Every face adjacent to the edge reuses the result.
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "paramesh/geom/Geometry.hpp"
@@ -27,6 +28,9 @@ CurveSampling sampleCurve(const ICurve& c, double t0, double t1, const SizeField
 /// follow the size field; n >= minSegments, and n >= turning / maxTurn so that no segment turns
 /// by more than maxTurn radians.
 std::vector<double> discretizeCurve(const CurveSampling& cs, const SizeField& field, int minSegments,
+                                    double maxTurn);
+/// Same with any size function (e.g. the field widened along a narrow gap).
+std::vector<double> discretizeCurve(const CurveSampling& cs, const std::function<double(Vec3)>& size, int minSegments,
                                     double maxTurn);
 
 }  // namespace paramesh

@@ -19,6 +19,7 @@
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/model/FaceDomain.hpp"
+#include "paramesh/model/NarrowZones.hpp"
 #include "paramesh/size/NearestFace.hpp"
 #include "paramesh/size/Proximity.hpp"
 #include "paramesh/size/SizeField.hpp"
@@ -48,6 +49,14 @@ constexpr int kNearestFaceRounds = 6;
 // so that the refinement stays on the thin part (at the global grading, 1.3, the propeller's
 // fillets pulled % len OK from 90 to 79 at diagonal/100; at 1.6, 86)
 constexpr double kNearestFaceSlope = 0.6;
+// narrow gaps (NarrowZones.hpp): gaps below kStaggerTo of the size are staggered when leader
+// spacings exist that keep the slanted edges >= h/sqrt2 and the angles >= atan(2/kStaggerMaxAspect)
+// = 31 degrees with a kStaggerWindow margin between the two (gaps from 0.39 h up); the spacing
+// stays at most kStaggerMaxSpacing sizes
+constexpr double kStaggerTo = 0.58;
+constexpr double kStaggerWindow = 1.1;
+constexpr double kStaggerMaxSpacing = 1.2;
+constexpr double kStaggerMaxAspect = 3.3;
 
 struct EdgeMesh {
   std::vector<double> t;
@@ -417,7 +426,14 @@ struct Mesher::Impl {
         discretizeAll();
       }
     }
-    // two edges joining the same two vertices must not both be a single chord
+    splitParallelChords(ts, degen);
+    if (p.staggerNarrowGaps && blLaws.empty() && staggerNarrowGaps(ts, degen)) splitParallelChords(ts, degen);
+    createEdgeNodes(ts, degen);
+  }
+
+  /// Two edges joining the same two vertices must not both be a single chord.
+  void splitParallelChords(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) const {
+    const int ne = model.numEdges();
     std::map<std::pair<int, int>, std::vector<int>> byEnds;
     for (int e = 0; e < ne; ++e) {
       if (degen[e] || ts[e].size() != 2) continue;
@@ -434,6 +450,11 @@ struct Mesher::Impl {
         ts[e] = {ts[e][0], 0.5 * (ts[e][0] + ts[e][1]), ts[e][1]};
       }
     }
+  }
+
+  /// The mesh nodes and 1D elements of every edge from its parameters.
+  void createEdgeNodes(const std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
+    const int ne = model.numEdges();
     vertexNode.assign(model.numVertices(), -1);
     edges.assign(ne, EdgeMesh());
     auto nodeOfVertex = [&](int v) {
@@ -519,6 +540,205 @@ struct Mesher::Impl {
         em.t[i] = i == 0 ? t0 : (i + 1 == n ? t1 : c->project(mesh.nodes[em.nodes[i]], seed, t0, t1));
       }
     }
+  }
+
+  // ---------------------------------------------------------------- narrow gaps
+  /// The boundary loops of face f as discretised by ts (wire order, inward directions from the
+  /// face's outward normal: the face lies to the left of its wires seen from outside). Empty when
+  /// the face uses an edge meshed through a coincident one (unsewn CAD).
+  std::vector<std::vector<LoopNode>> loopNodes(int f, const std::vector<std::vector<double>>& ts,
+                                               const std::vector<char>& degen) const {
+    std::vector<std::vector<LoopNode>> loops;
+    auto s = model.makeSurface(f);
+    const bool rev = model.faceReversed(f);
+    const auto& wires = model.faceWires(f);
+    for (size_t w = 0; w < wires.size(); ++w) {
+      std::vector<LoopNode> L;
+      std::vector<Vec3> nrm;
+      for (size_t k = 0; k < wires[w].uses.size(); ++k) {
+        const EdgeUse& u = wires[w].uses[k];
+        const int e = u.edge;
+        if (same.edgeRep[e] != e || ts[e].size() < 2) return {};
+        if (degen[e]) {
+          const int v = model.edgeVertex(e, 0);
+          if (v < 0) return {};
+          LoopNode ln;
+          ln.xyz = model.vertexPoint(v);
+          ln.edge = e;
+          L.push_back(ln);
+          nrm.push_back({0, 0, 0});
+          continue;
+        }
+        auto c = model.makeCurve(e);
+        auto pc = model.makePCurve(f, (int)w, (int)k);
+        const auto& t = ts[e];
+        const size_t n = t.size();
+        for (size_t i = 0; i + 1 < n; ++i) {
+          const double tt = u.reversed ? t[n - 1 - i] : t[i];
+          LoopNode ln;
+          ln.xyz = c->eval(tt);
+          ln.edge = e;
+          Vec3 N{0, 0, 0};
+          if (!pc || !s->normal(pc->eval(tt), N)) N = {0, 0, 0};
+          L.push_back(ln);
+          nrm.push_back(rev ? -1.0 * N : N);
+        }
+      }
+      const int m = (int)L.size();
+      if (m < 3) continue;
+      for (int i = 0; i < m; ++i) {
+        const Vec3 v = cross(nrm[i], L[(i + 1) % m].xyz - L[(i + m - 1) % m].xyz);
+        L[i].inward = norm2(v) > 0 ? normalized(v) : Vec3{0, 0, 0};
+      }
+      loops.push_back(std::move(L));
+    }
+    return loops;
+  }
+
+  /// Narrow gaps (NarrowZones.hpp). Where two sides of a face face each other at a gap w below
+  /// kStaggerTo of the size h, one row of triangles spans the gap: nodes opposite each other make
+  /// angles below 30 degrees there. Instead, the nodes of one side (the follower edge) go midway
+  /// between the projections of the other side's nodes (the leader), and the leader's spacing b
+  /// along the gap lies between 2 sqrt(h^2/2 - w^2) (slanted edges h/sqrt2) and 3.3 w (angles 31
+  /// degrees). Below w = 0.39 h no spacing does both with a margin: such gaps are left alone (a
+  /// single row cannot have good angles there without edges shorter than h/sqrt2). Returns true
+  /// when some edge changed.
+  bool staggerNarrowGaps(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
+    const int nf = model.numFaces(), ne = model.numEdges();
+    std::vector<std::vector<NarrowGap>> gaps(nf);
+    parallelFor(nf, threads, [&](int f) {
+      progress.poll();
+      try {
+        gaps[f] = findNarrowGaps(loopNodes(f, ts, degen), kStaggerTo * 1.4);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (...) {
+        gaps[f].clear();
+      }
+    });
+    // the leader spacing each gap asks for, at both of its ends; pair weights
+    struct Want {
+      Vec3 x;
+      double b;
+    };
+    std::vector<std::vector<Want>> wants(ne);
+    std::map<std::pair<int, int>, int> weight;
+    for (const auto& fg : gaps)
+      for (const NarrowGap& g : fg) {
+        const double h = field.size(g.p);
+        const double r = g.width / h;
+        if (r >= kStaggerTo) continue;
+        // leader spacings between bLen (slanted edges h/sqrt2) and bAng (base angles 31 degrees),
+        // with room for the follower's side being a little longer than the leader's
+        const double bLen = 2.0 * std::sqrt(std::max(0.5 - r * r, 0.0)) * h, bAng = kStaggerMaxAspect * g.width;
+        if (bAng < kStaggerWindow * bLen) continue;
+        const double b = std::min(std::max(h, 1.06 * bLen), std::min(kStaggerMaxSpacing * h, bAng / 1.04));
+        const int across = g.edgeAcross;
+        if (across < 0 || degen[across]) continue;
+        wants[across].push_back({g.q, b});
+        for (int e : {g.edgeIn, g.edgeOut}) {
+          if (e >= 0 && e != across && !degen[e]) {
+            wants[e].push_back({g.p, b});
+            ++weight[{std::min(e, across), std::max(e, across)}];
+          }
+          if (g.edgeIn == g.edgeOut) break;
+        }
+      }
+    if (weight.empty()) return false;
+    std::vector<std::pair<int, std::pair<int, int>>> pairs;
+    for (const auto& kv : weight) pairs.push_back({kv.second, kv.first});
+    std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    // roles: an edge leads, follows (its leaders' nodes fixed first) or is free; no cycles
+    std::vector<std::vector<int>> leaders(ne);
+    std::vector<char> follower(ne, 0), leads(ne, 0);
+    auto dependsOn = [&](int x0, int target) {  // does x0 (transitively) follow target?
+      std::vector<int> stack{x0};
+      std::vector<char> seen(ne, 0);
+      while (!stack.empty()) {
+        const int x = stack.back();
+        stack.pop_back();
+        if (x == target) return true;
+        if (seen[x]) continue;
+        seen[x] = 1;
+        for (int y : leaders[x]) stack.push_back(y);
+      }
+      return false;
+    };
+    for (const auto& pr : pairs) {
+      int a = pr.second.first, b = pr.second.second;
+      if (follower[a] && follower[b]) continue;
+      if (follower[a] || (leads[b] && !leads[a])) std::swap(a, b);  // b follows a
+      if (dependsOn(a, b)) continue;
+      leaders[b].push_back(a);
+      follower[b] = 1;
+      leads[a] = 1;
+    }
+    int changed = 0;
+    // leaders that follow no one: spacing widened along their gaps
+    for (int e = 0; e < ne; ++e) {
+      if (!leads[e] || follower[e] || wants[e].empty()) continue;
+      const auto& W = wants[e];
+      auto spacing = [&](Vec3 x) {
+        double h = field.size(x);
+        for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
+        return h;
+      };
+      auto c = model.makeCurve(e);
+      double t0, t1;
+      model.edgeRange(e, t0, t1);
+      const CurveSampling cs = sampleCurve(*c, t0, t1, &field);
+      const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+      const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
+      ts[e] = discretizeCurve(cs, spacing, closed ? 3 : 1, kPi / 3.0);
+      ++changed;
+    }
+    // followers in dependency order, staggered against their leaders' nodes
+    std::vector<int> order;
+    std::vector<char> placed(ne, 0);
+    for (bool more = true; more;) {
+      more = false;
+      for (int e = 0; e < ne; ++e) {
+        if (!follower[e] || placed[e]) continue;
+        bool ready = true;
+        for (int a : leaders[e]) ready = ready && (!follower[a] || placed[a]);
+        if (!ready) continue;
+        placed[e] = 1;
+        order.push_back(e);
+        more = true;
+      }
+    }
+    int staggered = 0;
+    for (int b : order) {
+      progress.poll();
+      auto cb = model.makeCurve(b);
+      double t0, t1;
+      model.edgeRange(b, t0, t1);
+      const std::vector<Vec3> poly = sampleCurve(*cb, t0, t1, &field).p;
+      // the leaders' nodes near b, and their neighbours along the leader
+      std::vector<Vec3> near;
+      for (int a : leaders[b]) {
+        auto ca = model.makeCurve(a);
+        std::vector<Vec3> xa;
+        for (double t : ts[a]) xa.push_back(ca->eval(t));
+        std::vector<char> take(xa.size(), 0);
+        for (size_t i = 0; i < xa.size(); ++i)
+          if (distanceToPolyline(xa[i], poly) < kStaggerTo * field.size(xa[i])) {
+            take[i] = 1;
+            if (i > 0) take[i - 1] = 1;
+            if (i + 1 < xa.size()) take[i + 1] = 1;
+          }
+        for (size_t i = 0; i < xa.size(); ++i)
+          if (take[i]) near.push_back(xa[i]);
+      }
+      if (near.size() < 2) continue;
+      ts[b] = staggeredParameters(*cb, t0, t1, near, field, kPi / 3.0);
+      ++staggered;
+      ++changed;
+    }
+    if (changed)
+      log.info("narrow gaps: " + std::to_string(staggered) + " edges staggered against " +
+               std::to_string(changed - staggered) + " widened ones");
+    return changed > 0;
   }
 
   // ---------------------------------------------------------------- face boundaries

@@ -40,6 +40,9 @@ struct MeshParams {
   int order = 1;              ///< element order, 1 or 2 (mid-nodes on the CAD)
   bool quads = false;         ///< quad-dominant surface mesh
   bool shortEdgeSources = true;  ///< segments much shorter than the size field refine their surroundings
+  /// Where two sides of a face are closer than about half their node spacing (a thread flank, a
+  /// ligament), the nodes of one side are staggered against the other's (NarrowZones.hpp).
+  bool staggerNarrowGaps = true;
   int proximity = 0;          ///< at least this many elements across thin walls / narrow faces; 0: off
   /// Triangles cut more than 4.5 % of the size deep into a thin part, so that their centroid lies
   /// nearer another CAD face than their own, are refined: the mesh is redone with sizes there, at
