@@ -4,6 +4,7 @@
 // orientation, nodes on the CAD, quality, size conformity).
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -100,7 +101,11 @@ INSTANTIATE_TEST_SUITE_P(
                       ModelCase{"sheet_metal_54.brep", 0.95, 3.0, 90.0},
                       // small-edges-01: refined along its chains of short edges (Gmsh: 3.2 % of lengths in range)
                       ModelCase{"small-edges-01.brep", 0.975, 0.5, 70.0},
-                      ModelCase{"nist_ctc_01.brep", 0.965, 2.0, 92.0}, ModelCase{"ANC101.stp", 0.98, 0.2, 97.5}),
+                      ModelCase{"nist_ctc_01.brep", 0.965, 2.0, 92.0}, ModelCase{"ANC101.stp", 0.98, 0.2, 97.5},
+                      // linkrods: its curved blends have right-angle corners between a short CAD
+                      // edge (0.48 h) and a regular segment; at most one triangle below 30 deg
+                      // (Gmsh: 1 of 24448)
+                      ModelCase{"linkrods.step", 0.984, 0.005, 98.3}),
     [](const ::testing::TestParamInfo<ModelCase>& i) {
       std::string s = i.param.file;
       for (char& ch : s)
@@ -142,6 +147,22 @@ TEST(HardCases, SlenderPlaneAspect2000) {
   auto g = loadOccModelFromBrepString(toBrep(f));
   // h = 0.25: two elements across the width
   meshAndCheck(*g, 0.25, {0.9, 5.0, 90.0});
+}
+
+TEST(HardCases, ShortEdgeAtARightAngleCorner) {
+  // a 10 x 10 plate with a 0.55 step in its bottom side: at h = 1 the step's right-angle corner
+  // (5, 0) has a 0.55 segment on one side and a segment of h on the other, and its ear would have
+  // an angle of atan(0.55) = 28.8 degrees (Mesher::matchCornerSegments shortens the longer side's
+  // first segment where such ears are poor; linkrods.step in RealModel is the real case)
+  BRepBuilderAPI_MakePolygon poly;
+  for (auto p : {gp_Pnt(0, 0, 0), gp_Pnt(5, 0, 0), gp_Pnt(5, 0.55, 0), gp_Pnt(10, 0.55, 0), gp_Pnt(10, 10, 0),
+                 gp_Pnt(0, 10, 0)})
+    poly.Add(p);
+  poly.Close();
+  TopoDS_Shape f = BRepBuilderAPI_MakeFace(poly.Wire(), true).Shape();
+  auto g = loadOccModelFromBrepString(toBrep(f));
+  const MeshStats st = meshAndCheck(*g, 1.0, {0.95, 0.0, 90.0});
+  EXPECT_GE(st.angleMin, 30.0);
 }
 
 TEST(HardCases, SlenderPlaneThinnerThanSize) {

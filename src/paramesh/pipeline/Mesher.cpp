@@ -43,6 +43,11 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // CAD edges shorter than this fraction of the size field (one segment) may become size sources
 constexpr double kShortSegment = 0.5;
+// corners with a short neighbour segment: the other side's first segment becomes kCornerRatio x the
+// short one, growing by kCornerSlope per unit length from the corner
+constexpr double kCornerRatio = 1.3;
+constexpr double kCornerSlope = 0.5;
+constexpr double kCornerMinRatio = 0.35;  // of the size: shorter neighbour segments are left alone
 // the nearest-face check meshes again at most this many times
 constexpr int kNearestFaceRounds = 6;
 // its size sources act locally: sizes grow away from them by 0.6 per unit length (grading 1.6),
@@ -95,6 +100,7 @@ struct Mesher::Impl {
   std::vector<FaceBLResult::SpecStats> blStats;
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
+  std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -428,6 +434,7 @@ struct Mesher::Impl {
     }
     splitParallelChords(ts, degen);
     if (p.staggerNarrowGaps && blLaws.empty() && staggerNarrowGaps(ts, degen)) splitParallelChords(ts, degen);
+    if (blLaws.empty() && matchCornerSegments(ts, degen)) splitParallelChords(ts, degen);
     createEdgeNodes(ts, degen);
   }
 
@@ -605,6 +612,7 @@ struct Mesher::Impl {
   /// when some edge changed.
   bool staggerNarrowGaps(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
     const int nf = model.numFaces(), ne = model.numEdges();
+    staggered_.assign(ne, 0);
     std::vector<std::vector<NarrowGap>> gaps(nf);
     parallelFor(nf, threads, [&](int f) {
       progress.poll();
@@ -683,13 +691,8 @@ struct Mesher::Impl {
         for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
         return h;
       };
-      auto c = model.makeCurve(e);
-      double t0, t1;
-      model.edgeRange(e, t0, t1);
-      const CurveSampling cs = sampleCurve(*c, t0, t1, &field);
-      const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
-      const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
-      ts[e] = discretizeCurve(cs, spacing, closed ? 3 : 1, kPi / 3.0);
+      ts[e] = discretizeWith(e, spacing);
+      staggered_[e] = 1;
       ++changed;
     }
     // followers in dependency order, staggered against their leaders' nodes
@@ -732,12 +735,97 @@ struct Mesher::Impl {
       }
       if (near.size() < 2) continue;
       ts[b] = staggeredParameters(*cb, t0, t1, near, field, kPi / 3.0);
+      staggered_[b] = 1;
       ++staggered;
       ++changed;
     }
     if (changed)
       log.info("narrow gaps: " + std::to_string(staggered) + " edges staggered against " +
                std::to_string(changed - staggered) + " widened ones");
+    return changed > 0;
+  }
+
+  /// Parameters of edge e discretised with the given spacing (as discretizeEdges does with the
+  /// field: closed edges get at least 3 segments, none turns by more than 60 degrees).
+  std::vector<double> discretizeWith(int e, const std::function<double(Vec3)>& spacing) const {
+    auto c = model.makeCurve(e);
+    double t0, t1;
+    model.edgeRange(e, t0, t1);
+    const CurveSampling cs = sampleCurve(*c, t0, t1, &field);
+    const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+    const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
+    return discretizeCurve(cs, spacing, closed ? 3 : 1, kPi / 3.0);
+  }
+
+  /// Corners whose ear triangle would be poor. At a convex face corner of 40 to 110 degrees the
+  /// face mesher usually keeps the ear (the corner and its two boundary neighbours) as a triangle;
+  /// when one side's first segment is much shorter than the other's (a short CAD edge of one
+  /// segment next to a regular one) that triangle has an angle below 30 degrees. The longer side's
+  /// edge is discretised again with its segments growing from 1.3 x the short one at the corner
+  /// (slope kCornerSlope, so only its first segment or two change). Short segments below
+  /// kCornerMinRatio sizes (tiny features) are left alone. Returns true when some edge changed.
+  bool matchCornerSegments(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
+    const int nf = model.numFaces(), ne = model.numEdges();
+    struct Want {
+      Vec3 v;
+      double s;
+    };
+    std::vector<std::vector<std::vector<std::pair<int, Want>>>> per(nf);
+    parallelFor(nf, threads, [&](int f) {
+      progress.poll();
+      std::vector<std::vector<LoopNode>> loops;
+      try {
+        loops = loopNodes(f, ts, degen);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (...) {
+        return;
+      }
+      std::vector<std::pair<int, Want>> found;
+      for (const auto& L : loops) {
+        const int n = (int)L.size();
+        if (n < 3) continue;
+        for (int i = 0; i < n; ++i) {
+          const LoopNode &P = L[(i + n - 1) % n], &V = L[i], &N = L[(i + 1) % n];
+          if (P.edge == V.edge || P.edge < 0 || V.edge < 0) continue;  // not a corner
+          const double la = dist(P.xyz, V.xyz), lb = dist(V.xyz, N.xyz);
+          if (!(la > 0 && lb > 0) || std::max(la, lb) < 1.5 * std::min(la, lb)) continue;
+          // a tiny feature (far below the size) would pull a long run of small segments: left alone
+          if (std::min(la, lb) < kCornerMinRatio * field.size(V.xyz)) continue;
+          const Vec3 u = (1.0 / la) * (P.xyz - V.xyz), w = (1.0 / lb) * (N.xyz - V.xyz);
+          if (!(norm2(V.inward) > 0.5) || dot(u + w, V.inward) <= 0) continue;  // reflex corner
+          const double ang = std::acos(std::clamp(dot(u, w), -1.0, 1.0)) * 180.0 / kPi;
+          if (ang < 40.0 || ang > 110.0) continue;
+          // the ear's smallest angle
+          const double lc = dist(P.xyz, N.xyz);
+          const double ears = std::min({std::asin(std::min(1.0, std::sin(ang * kPi / 180) * la / lc)),
+                                        std::asin(std::min(1.0, std::sin(ang * kPi / 180) * lb / lc))}) * 180.0 / kPi;
+          if (ears >= 30.0) continue;
+          const int longEdge = la > lb ? P.edge : V.edge;
+          if (degen[longEdge] || staggered_.size() == (size_t)ne && staggered_[longEdge]) continue;
+          if (ts[longEdge].size() < 3) continue;  // a single segment cannot be shortened at one end
+          found.push_back({longEdge, {V.xyz, kCornerRatio * std::min(la, lb)}});
+        }
+      }
+      per[f].push_back(std::move(found));
+    });
+    std::vector<std::vector<Want>> wants(ne);
+    for (const auto& pf : per)
+      for (const auto& fl : pf)
+        for (const auto& w : fl) wants[w.first].push_back(w.second);
+    int changed = 0;
+    for (int e = 0; e < ne; ++e) {
+      if (wants[e].empty()) continue;
+      const auto& W = wants[e];
+      auto spacing = [&](Vec3 x) {
+        double h = field.size(x);
+        for (const Want& w : W) h = std::min(h, w.s + kCornerSlope * dist(x, w.v));
+        return h;
+      };
+      ts[e] = discretizeWith(e, spacing);
+      ++changed;
+    }
+    if (changed) log.info("corners: " + std::to_string(changed) + " edges re-spaced at corners with a short neighbour segment");
     return changed > 0;
   }
 
