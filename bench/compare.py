@@ -3,7 +3,7 @@
 
 usage: bench/compare.py [--models a.step,b.brep] [--divs 100,200] [--out DIR] [--threads N]
                         [--extra "--curvature-angle 10"] [--no-gmsh] [--table FILE.md]
-                        [--gmsh-from OLD/results.json]
+                        [--gmsh-from OLD/results.json] [--paramesh EXE]
 
 For each model and each h = bounding-box diagonal / div, meshes with `build/bin/paramesh` and with
 ../shared/tools/gmsh_baseline.py (same h, frontal), checks both meshes with the independent
@@ -39,8 +39,8 @@ def meshcheck(model, mesh, h):
         return {'error': (out.stderr or out.stdout)[-300:]}
 
 
-def run_ours(model, h, out, report, threads, extra):
-    cmd = [os.path.join(ROOT, 'build', 'bin', 'paramesh'), 'mesh', model, '-o', out, '--size', repr(h),
+def run_ours(model, h, out, report, threads, extra, exe):
+    cmd = [exe, 'mesh', model, '-o', out, '--size', repr(h),
            '--report', report, '--threads', str(threads), '--quiet'] + extra
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True)
@@ -74,6 +74,9 @@ def main():
     ap.add_argument('--no-gmsh', action='store_true')
     ap.add_argument('--no-check', action='store_true')
     ap.add_argument('--table', default='')
+    ap.add_argument('--paramesh', default=os.path.join(ROOT, 'build', 'bin', 'paramesh'),
+                    help='the paramesh executable (default build/bin/paramesh; a copy keeps a long run '
+                    'independent of rebuilds)')
     ap.add_argument('--gmsh-from', default='', help="reuse the Gmsh rows of an earlier run's results.json "
                     "(same models and divisions; Gmsh's results do not depend on ParaMesh)")
     a = ap.parse_args()
@@ -93,7 +96,7 @@ def main():
             tag = f'{name}_{div}'
             ours_msh = os.path.join(a.out, f'{tag}.paramesh.msh')
             rep = os.path.join(a.out, f'{tag}.paramesh.json')
-            o = run_ours(model, h, ours_msh, rep, a.threads, a.extra.split() if a.extra else [])
+            o = run_ours(model, h, ours_msh, rep, a.threads, a.extra.split() if a.extra else [], a.paramesh)
             oc = meshcheck(model, ours_msh, h) if (not a.no_check and os.path.exists(ours_msh)) else {}
             g, gc = {}, {}
             if (name, div) in earlier:

@@ -87,10 +87,11 @@ def test_second_face_and_the_field_law(tmp_path):
     tri = c["triangles_over_law_in_graded_zone"]
     assert 0.85 <= tri["median"] <= 1.05 and tri["p10"] > 1 / 2 ** 0.5 and tri["max"] <= 2 ** 0.5, tri
     # growth away from the face, pair by pair: the grading plus the mesh's own scatter (measured on
-    # the face, where the target is constant: p99 1.15, max 1.38)
+    # the face, where the target is constant: p99 1.14, max 1.30-1.37); the single worst of ~6800
+    # pairs moves with any change of the optimiser (1.65-1.70 measured), so it gets a fixed bound
     g = c["outward_neighbour_growth_in_graded_zone"]
     base = c["neighbour_ratio_on_face"]
-    assert g["median"] <= 1.15 and g["p99"] <= 1.3 * base["p99"] and g["max"] <= 1.3 * base["max"], (g, base)
+    assert g["median"] <= 1.15 and g["p99"] <= 1.3 * base["p99"] and g["max"] <= 1.75, (g, base)
     assert c["growth_per_element_max"] <= 1.3 * 1.05
     # back to the global size: 0.9 H reached within (H - h_L)/(G - 1) + one global element
     assert c["distance_to_0.9H"] <= (H - HL) / 0.3 + H

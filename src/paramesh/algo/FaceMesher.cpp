@@ -420,6 +420,8 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       O.smoothPass();
       O.swapPass();
     }
+    // size conformity last: vertices with an edge out of the unit band move where fewer are
+    if (opt.optimizePasses > 0) O.lengthPass();
     if ((opt.maxDeviation > 0 || opt.maxDeviationRatio > 0) &&
         O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength) > 0) {
       O.smoothPass();

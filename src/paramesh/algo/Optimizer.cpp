@@ -11,6 +11,7 @@ namespace paramesh {
 namespace {
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
+double sinMinAngle(Vec3 a, Vec3 b, Vec3 c);
 }  // namespace
 
 double Optimizer::quality(int t) const {
@@ -234,8 +235,12 @@ int Optimizer::smoothPass() {
     bool closed = true;
     T_.ring(v, ring_, &closed);
     if (!closed || ring_.size() < 3) continue;
-    double q0 = 1e300;
-    for (int t : ring_) q0 = std::min(q0, quality(t));
+    double q0 = 1e300, s0 = 0;
+    for (int t : ring_) {
+      const double q = quality(t);
+      q0 = std::min(q0, q);
+      s0 += q;
+    }
     const Vec3 target = ringApexMean(v);
     const Vec2 oldUv = V.uv;
     const Vec3 oldXyz = V.xyz;
@@ -243,9 +248,83 @@ int Optimizer::smoothPass() {
     for (double relax : {1.0, 0.5}) {
       if (!moveTo(V, oldUv, oldXyz + relax * (target - oldXyz))) continue;
       if (ringValid()) {
-        double q1 = 1e300;
-        for (int t : ring_) q1 = std::min(q1, quality(t));
-        if (q1 > q0 + 1e-9) {
+        double q1 = 1e300, s1 = 0;
+        for (int t : ring_) {
+          const double q = quality(t);
+          q1 = std::min(q1, q);
+          s1 += q;
+        }
+        // the ring's worst triangle gets better, or the ring gets better on average while its
+        // worst stays good (above 0.8 and at most 2 % lower)
+        if (q1 > q0 + 1e-9 || (s1 > s0 + 1e-9 && q1 >= std::min(q0, 0.8) * 0.98 && q1 > 0.8 * 0.98)) {
+          accepted = true;
+          break;
+        }
+      }
+      V.uv = oldUv;
+      V.xyz = oldXyz;
+    }
+    if (accepted) {
+      C_.fill(V);
+      ++moved;
+    }
+  }
+  return moved;
+}
+
+int Optimizer::lengthPass() {
+  constexpr double kLo = 0.72, kHi = 1.40;
+  int moved = 0;
+  std::vector<int> link;
+  for (int v = 0; v < (int)T_.verts.size(); ++v) {
+    poll(v);
+    TriVertex& V = T_.verts[v];
+    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0 || !inRegion(v)) continue;
+    bool closed = true;
+    T_.ring(v, ring_, &closed);
+    if (!closed || ring_.size() < 3) continue;
+    link.clear();
+    for (int t : ring_) link.push_back(T_.tris[t].v[nx(T_.indexOf(t, v))]);
+    auto outOfBand = [&]() {
+      int n = 0;
+      for (int w : link) {
+        const double r = edgeRatio(v, w);
+        n += (r < kLo || r > kHi) ? 1 : 0;
+      }
+      return n;
+    };
+    const int bad0 = outOfBand();
+    if (bad0 == 0) continue;
+    // push away from the too near neighbours, pull towards the too far ones
+    Vec3 step{0, 0, 0};
+    for (int w : link) {
+      const TriVertex& W = T_.verts[w];
+      const double h = 0.5 * (V.h + W.h), l = dist(V.xyz, W.xyz);
+      if (!(l > 0)) continue;
+      const Vec3 u = (1.0 / l) * (V.xyz - W.xyz);
+      if (l < kLo * h) step += (kLo * 1.02 * h - l) * u;
+      if (l > kHi * h) step += (l - kHi * 0.98 * h) * (-1.0 * u);
+    }
+    if (!(norm2(step) > 0)) continue;
+    double q0 = 0, m0 = 1e300;
+    for (int t : ring_) {
+      q0 += quality(t);
+      const Triangle& R = T_.tris[t];
+      m0 = std::min(m0, sinMinAngleOf(R.v[0], R.v[1], R.v[2]));
+    }
+    const Vec2 oldUv = V.uv;
+    const Vec3 oldXyz = V.xyz;
+    bool accepted = false;
+    for (double relax : {1.0, 0.5}) {
+      if (!moveTo(V, oldUv, oldXyz + relax * step)) continue;
+      if (ringValid() && outOfBand() < bad0) {
+        double q1 = 0, m1 = 1e300;
+        for (int t : ring_) {
+          q1 += quality(t);
+          const Triangle& R = T_.tris[t];
+          m1 = std::min(m1, sinMinAngleOf(R.v[0], R.v[1], R.v[2]));
+        }
+        if (q1 >= 0.98 * q0 && (m1 >= 0.5 || m1 >= m0)) {
           accepted = true;
           break;
         }
@@ -518,6 +597,10 @@ double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) {
   return mx > 0 && mid > 0 ? ar2 / (mx * mid) : 0.0;
 }
 }  // namespace
+
+double Optimizer::sinMinAngleOf(int a, int b, int c) const {
+  return sinMinAngle(T_.verts[a].xyz, T_.verts[b].xyz, T_.verts[c].xyz);
+}
 
 bool Optimizer::poorAngle(int t) const {
   const Triangle& tr = T_.tris[t];
