@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 
 #include "paramesh/algo/Predicates.hpp"
 
@@ -226,48 +227,50 @@ Vec3 Optimizer::ringApexMean(int v) const {
   return sum * (1.0 / ring_.size());
 }
 
+Optimizer::RingStats Optimizer::ringStats() const {
+  RingStats r;
+  for (int t : ring_) {
+    const double q = quality(t);
+    r.minQ = std::min(r.minQ, q);
+    r.sumQ += q;
+    const Triangle& R = T_.tris[t];
+    r.minSin = std::min(r.minSin, sinMinAngleOf(R.v[0], R.v[1], R.v[2]));
+  }
+  return r;
+}
+
+bool Optimizer::tryMove(int v, Vec3 goal, const std::function<bool(const RingStats&)>& accept) {
+  TriVertex& V = T_.verts[v];
+  const Vec2 oldUv = V.uv;
+  const Vec3 oldXyz = V.xyz;
+  for (double relax : {1.0, 0.5}) {
+    if (moveTo(V, oldUv, oldXyz + relax * (goal - oldXyz)) && ringValid() && accept(ringStats())) {
+      C_.fill(V);
+      return true;
+    }
+    V.uv = oldUv;
+    V.xyz = oldXyz;
+  }
+  return false;
+}
+
 int Optimizer::smoothPass() {
   int moved = 0;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
     poll(v);
-    TriVertex& V = T_.verts[v];
+    const TriVertex& V = T_.verts[v];
     if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0 || !inRegion(v)) continue;
     bool closed = true;
     T_.ring(v, ring_, &closed);
     if (!closed || ring_.size() < 3) continue;
-    double q0 = 1e300, s0 = 0;
-    for (int t : ring_) {
-      const double q = quality(t);
-      q0 = std::min(q0, q);
-      s0 += q;
-    }
-    const Vec3 target = ringApexMean(v);
-    const Vec2 oldUv = V.uv;
-    const Vec3 oldXyz = V.xyz;
-    bool accepted = false;
-    for (double relax : {1.0, 0.5}) {
-      if (!moveTo(V, oldUv, oldXyz + relax * (target - oldXyz))) continue;
-      if (ringValid()) {
-        double q1 = 1e300, s1 = 0;
-        for (int t : ring_) {
-          const double q = quality(t);
-          q1 = std::min(q1, q);
-          s1 += q;
-        }
-        // the ring's worst triangle gets better, or the ring gets better on average while its
-        // worst stays good (above 0.8 and at most 2 % lower)
-        if (q1 > q0 + 1e-9 || (s1 > s0 + 1e-9 && q1 >= std::min(q0, 0.8) * 0.98 && q1 > 0.8 * 0.98)) {
-          accepted = true;
-          break;
-        }
-      }
-      V.uv = oldUv;
-      V.xyz = oldXyz;
-    }
-    if (accepted) {
-      C_.fill(V);
+    const RingStats r0 = ringStats();
+    // the ring's worst triangle gets better, or the ring gets better on average while its worst
+    // stays good (above 0.8 and at most 2 % lower)
+    if (tryMove(v, ringApexMean(v), [&](const RingStats& r1) {
+          return r1.minQ > r0.minQ + 1e-9 ||
+                 (r1.sumQ > r0.sumQ + 1e-9 && r1.minQ >= std::min(r0.minQ, 0.8) * 0.98 && r1.minQ > 0.8 * 0.98);
+        }))
       ++moved;
-    }
   }
   return moved;
 }
@@ -278,7 +281,7 @@ int Optimizer::lengthPass() {
   std::vector<int> link;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
     poll(v);
-    TriVertex& V = T_.verts[v];
+    const TriVertex& V = T_.verts[v];
     if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0 || !inRegion(v)) continue;
     bool closed = true;
     T_.ring(v, ring_, &closed);
@@ -306,36 +309,11 @@ int Optimizer::lengthPass() {
       if (l > kHi * h) step += (l - kHi * 0.98 * h) * (-1.0 * u);
     }
     if (!(norm2(step) > 0)) continue;
-    double q0 = 0, m0 = 1e300;
-    for (int t : ring_) {
-      q0 += quality(t);
-      const Triangle& R = T_.tris[t];
-      m0 = std::min(m0, sinMinAngleOf(R.v[0], R.v[1], R.v[2]));
-    }
-    const Vec2 oldUv = V.uv;
-    const Vec3 oldXyz = V.xyz;
-    bool accepted = false;
-    for (double relax : {1.0, 0.5}) {
-      if (!moveTo(V, oldUv, oldXyz + relax * step)) continue;
-      if (ringValid() && outOfBand() < bad0) {
-        double q1 = 0, m1 = 1e300;
-        for (int t : ring_) {
-          q1 += quality(t);
-          const Triangle& R = T_.tris[t];
-          m1 = std::min(m1, sinMinAngleOf(R.v[0], R.v[1], R.v[2]));
-        }
-        if (q1 >= 0.98 * q0 && (m1 >= 0.5 || m1 >= m0)) {
-          accepted = true;
-          break;
-        }
-      }
-      V.uv = oldUv;
-      V.xyz = oldXyz;
-    }
-    if (accepted) {
-      C_.fill(V);
+    const RingStats r0 = ringStats();
+    if (tryMove(v, V.xyz + step, [&](const RingStats& r1) {
+          return outOfBand() < bad0 && r1.sumQ >= 0.98 * r0.sumQ && (r1.minSin >= 0.5 || r1.minSin >= r0.minSin);
+        }))
       ++moved;
-    }
   }
   return moved;
 }

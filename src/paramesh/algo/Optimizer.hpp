@@ -9,6 +9,7 @@
 #include "paramesh/algo/Triangulation.hpp"
 #include "paramesh/util/Log.hpp"
 
+#include <functional>
 #include <vector>
 
 namespace paramesh {
@@ -98,6 +99,14 @@ class Optimizer {
  private:
   double edgeRatio(int a, int b) const;
   double sinMinAngleOf(int a, int b, int c) const;
+  /// Quality figures of ring_: worst and summed radius ratio, worst sine of the smallest angle.
+  struct RingStats {
+    double minQ = 1e300, sumQ = 0, minSin = 1e300;
+  };
+  RingStats ringStats() const;
+  /// Moves vertex v (whose ring is ring_) towards goal, then halfway, keeping the first position
+  /// where the ring is valid and accept(its stats) holds; false, v unchanged, otherwise.
+  bool tryMove(int v, Vec3 goal, const std::function<bool(const RingStats&)>& accept);
   bool collapse(int t, int i);
   bool deviationOk(int a, int b, int c, double allowed) const;
   /// Puts V at the surface point nearest goal (projection started at `from`); false, V unchanged,
