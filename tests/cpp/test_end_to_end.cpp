@@ -14,6 +14,7 @@
 #include <gp_Pln.hxx>
 #include <gtest/gtest.h>
 
+#include <map>
 #include <sstream>
 
 #include "MeshChecks.hpp"
@@ -147,6 +148,33 @@ TEST(HardCases, SlenderPlaneAspect2000) {
   auto g = loadOccModelFromBrepString(toBrep(f));
   // h = 0.25: two elements across the width
   meshAndCheck(*g, 0.25, {0.9, 5.0, 90.0});
+}
+
+TEST(HardCases, StripEndsDividedIntoRows) {
+  // a 40 x 5.22 strip at h = 1: rows of equilateral triangles (0.866 high) grow from its long
+  // sides, six of them across; its ends get six segments (not round(5.22) = 5) so that the rows end
+  // on their nodes, and the rows stay regular along the whole strip
+  TopoDS_Shape f = BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 0.0, 40.0, 0.0, 5.22).Shape();
+  auto g = loadOccModelFromBrepString(toBrep(f));
+  MeshParams p;
+  p.size = 1.0;
+  Mesher mesher(*g, p);
+  const MeshOutput out = mesher.run();
+  std::map<int, int> segs;
+  for (int e : out.mesh.segmentEdge) ++segs[e];
+  int ends = 0;
+  for (const auto& kv : segs) {
+    double t0, t1;
+    g->edgeRange(kv.first - 1, t0, t1);
+    const double len = dist(g->makeCurve(kv.first - 1)->eval(t0), g->makeCurve(kv.first - 1)->eval(t1));
+    if (len < 10) {
+      EXPECT_EQ(kv.second, 6) << "Edge" << kv.first;
+      ++ends;
+    }
+  }
+  EXPECT_EQ(ends, 2);
+  const MeshStats st = meshAndCheck(*g, 1.0, {0.99, 0.0, 97.0});
+  EXPECT_GE(st.angleMin, 40.0);
 }
 
 TEST(HardCases, ShortEdgeAtARightAngleCorner) {

@@ -43,6 +43,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // CAD edges shorter than this fraction of the size field (one segment) may become size sources
 constexpr double kShortSegment = 0.5;
+// edges closing a strip up to this many sizes wide are divided into rows (kRowHeight: the height of
+// an equilateral triangle of side 1)
+constexpr double kStripEndMax = 8.0;
+constexpr double kRowHeight = 0.8660254037844386;
 // corners with a short neighbour segment: the other side's first segment becomes kCornerRatio x the
 // short one, growing by kCornerSlope per unit length from the corner
 constexpr double kCornerRatio = 1.3;
@@ -431,6 +435,18 @@ struct Mesher::Impl {
         field.build();
         discretizeAll();
       }
+      // An edge closing a strip a few elements wide ends the rows of triangles that grow from the
+      // strip's sides: rows of equilateral triangles are 0.87 h high, so its segments are too
+      // (with segments of h the rows cannot end on its nodes and break up along the strip).
+      parallelFor(ne, threads, [&](int e) {
+        if (pts[e].size() < 2 || degen[e] || same.edgeRep[e] != e) return;
+        const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+        if (v0 < 0 || v1 < 0 || v0 == v1) return;
+        const double L = polyLength(e);
+        const double hf = field.size(pts[e][pts[e].size() / 2]);
+        if (!(L > hf) || L > kStripEndMax * hf || !closesStrip(e, L)) return;
+        ts[e] = discretizeWith(e, [this](Vec3 x) { return kRowHeight * field.size(x); });
+      });
     }
     splitParallelChords(ts, degen);
     if (p.staggerNarrowGaps && blLaws.empty() && staggerNarrowGaps(ts, degen)) splitParallelChords(ts, degen);
