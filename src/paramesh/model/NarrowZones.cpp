@@ -15,12 +15,6 @@ namespace {
 constexpr double kEndGap = 0.75;
 }  // namespace
 
-double distanceToPolyline(Vec3 x, const std::vector<Vec3>& p) {
-  double best = 1e300;
-  for (size_t i = 1; i < p.size(); ++i) best = std::min(best, dist(x, closestOnSegment(x, p[i - 1], p[i])));
-  return best;
-}
-
 std::vector<NarrowGap> findNarrowGaps(const std::vector<std::vector<LoopNode>>& loops, double maxRatio) {
   struct Seg {
     int loop, i;
@@ -127,19 +121,17 @@ std::vector<double> staggeredParameters(const ICurve& c, double t0, double t1, c
     const double w = den > 0 ? (s - cs.s[j - 1]) / den : 0.5;
     return cs.t[j - 1] + w * (cs.t[j] - cs.t[j - 1]);
   };
-  // projections of the leader nodes, as arc positions
+  // projections of the leader nodes, as arc positions (leader nodes farther than two sizes from
+  // the follower take no part)
   std::vector<double> sp;
   bool acrossStart = false, acrossEnd = false;
+  double hMax = 0;
+  for (const Vec3& x : cs.p) hMax = std::max(hMax, field.size(x));
+  const SegmentIndex index(cs.p, 2.0 * hMax);
   for (const Vec3& x : leader) {
-    size_t bestJ = 0;
-    double bd = 1e300;
-    for (size_t j = 1; j < m; ++j) {
-      const double d = dist(x, closestOnSegment(x, cs.p[j - 1], cs.p[j]));
-      if (d < bd) {
-        bd = d;
-        bestJ = j;
-      }
-    }
+    const int seg = index.nearest(x, 2.0 * field.size(x));
+    if (seg < 0) continue;
+    const size_t bestJ = (size_t)seg + 1;
     const double t = c.project(x, 0.5 * (cs.t[bestJ - 1] + cs.t[bestJ]), t0, t1);
     // a foot clamped to an end counts only when it is a true foot (the offset normal to the curve)
     Vec3 p, d;

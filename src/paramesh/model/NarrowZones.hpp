@@ -52,7 +52,4 @@ std::vector<NarrowGap> findNarrowGaps(const std::vector<std::vector<LoopNode>>& 
 std::vector<double> staggeredParameters(const ICurve& c, double t0, double t1, const std::vector<Vec3>& leader,
                                         const SizeField& field, double maxTurn);
 
-/// Distance from x to the polyline p (at least two points).
-double distanceToPolyline(Vec3 x, const std::vector<Vec3>& p);
-
 }  // namespace paramesh

@@ -26,6 +26,7 @@
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
 #include "paramesh/util/Parallel.hpp"
+#include "paramesh/util/SpatialGrid.hpp"
 #include "paramesh/util/Timer.hpp"
 
 namespace paramesh {
@@ -449,8 +450,22 @@ struct Mesher::Impl {
       });
     }
     splitParallelChords(ts, degen);
-    if (p.staggerNarrowGaps && blLaws.empty() && staggerNarrowGaps(ts, degen)) splitParallelChords(ts, degen);
-    if (blLaws.empty() && matchCornerSegments(ts, degen)) splitParallelChords(ts, degen);
+    // boundary refinements of the discretisation; a kernel failure in one leaves the edges as
+    // they were before it (the mesh stays valid, only less well shaped there)
+    auto refineStage = [&](const char* what, const std::function<bool()>& stage) {
+      const std::vector<std::vector<double>> before = ts;
+      try {
+        if (stage()) splitParallelChords(ts, degen);
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const std::exception& e) {
+        ts = before;
+        log.warn(std::string(what) + " skipped: " + e.what());
+      }
+    };
+    if (p.staggerNarrowGaps && blLaws.empty())
+      refineStage("narrow gaps", [&] { return staggerNarrowGaps(ts, degen); });
+    if (blLaws.empty()) refineStage("corner spacing", [&] { return matchCornerSegments(ts, degen); });
     createEdgeNodes(ts, degen);
   }
 
@@ -733,6 +748,9 @@ struct Mesher::Impl {
       double t0, t1;
       model.edgeRange(b, t0, t1);
       const std::vector<Vec3> poly = sampleCurve(*cb, t0, t1, &field).p;
+      double hMax = 0;
+      for (const Vec3& x : poly) hMax = std::max(hMax, field.size(x));
+      const SegmentIndex near_b(poly, hMax);
       // the leaders' nodes near b, and their neighbours along the leader
       std::vector<Vec3> near;
       for (int a : leaders[b]) {
@@ -741,7 +759,7 @@ struct Mesher::Impl {
         for (double t : ts[a]) xa.push_back(ca->eval(t));
         std::vector<char> take(xa.size(), 0);
         for (size_t i = 0; i < xa.size(); ++i)
-          if (distanceToPolyline(xa[i], poly) < kStaggerTo * field.size(xa[i])) {
+          if (near_b.nearest(xa[i], kStaggerTo * field.size(xa[i])) >= 0) {
             take[i] = 1;
             if (i > 0) take[i - 1] = 1;
             if (i + 1 < xa.size()) take[i + 1] = 1;

@@ -90,4 +90,36 @@ class BoxGrid {
   std::unordered_map<uint64_t, std::vector<int>> cells_;
 };
 
+/// The segments of a polyline in a BoxGrid: nearest segment to a point within a radius.
+class SegmentIndex {
+ public:
+  /// p: the polyline (>= 2 points); cell: grid cell size (about the query radius).
+  SegmentIndex(const std::vector<Vec3>& p, double cell) : p_(p), grid_(cell) {
+    for (size_t i = 1; i < p_.size(); ++i) {
+      Box3 b;
+      b.add(p_[i - 1]);
+      b.add(p_[i]);
+      grid_.add((int)i - 1, b.lo, b.hi);
+    }
+  }
+  /// Segment i ([p[i], p[i+1]]) nearest to x among those within r, and its distance; -1 if none.
+  int nearest(Vec3 x, double r, double* d = nullptr) const {
+    int best = -1;
+    double bd = r;
+    grid_.query(x, r, [&](int i) {
+      const double di = dist(x, closestOnSegment(x, p_[i], p_[i + 1]));
+      if (di <= bd) {
+        bd = di;
+        best = i;
+      }
+    });
+    if (d) *d = bd;
+    return best;
+  }
+
+ private:
+  const std::vector<Vec3>& p_;
+  BoxGrid grid_;
+};
+
 }  // namespace paramesh
