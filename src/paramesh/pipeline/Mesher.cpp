@@ -440,7 +440,7 @@ struct Mesher::Impl {
       // strip's sides: rows of equilateral triangles are 0.87 h high, so its segments are too
       // (with segments of h the rows cannot end on its nodes and break up along the strip).
       parallelFor(ne, threads, [&](int e) {
-        if (pts[e].size() < 2 || degen[e] || same.edgeRep[e] != e) return;
+        if (pts[e].size() < 2 || !mayRespace(e, degen) || same.edgeRep[e] != e) return;
         const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
         if (v0 < 0 || v1 < 0 || v0 == v1) return;
         const double L = polyLength(e);
@@ -673,10 +673,10 @@ struct Mesher::Impl {
         if (bAng < kStaggerWindow * bLen) continue;
         const double b = std::min(std::max(h, 1.06 * bLen), std::min(kStaggerMaxSpacing * h, bAng / 1.04));
         const int across = g.edgeAcross;
-        if (across < 0 || degen[across]) continue;
+        if (across < 0 || !mayRespace(across, degen)) continue;
         wants[across].push_back({g.q, b});
         for (int e : {g.edgeIn, g.edgeOut}) {
-          if (e >= 0 && e != across && !degen[e]) {
+          if (e >= 0 && e != across && mayRespace(e, degen)) {
             wants[e].push_back({g.p, b});
             ++weight[{std::min(e, across), std::max(e, across)}];
           }
@@ -779,6 +779,15 @@ struct Mesher::Impl {
     return changed > 0;
   }
 
+  /// May the boundary stages (narrow gaps, corners, strip ends) change edge e's discretisation?
+  /// Not a degenerate edge, and in unsewn CAD not a free edge: free edges of unsewn patches often
+  /// overlap another patch's free edge in part, and their default discretisations match there.
+  bool mayRespace(int e, const std::vector<char>& degen) const {
+    if (degen[e]) return false;
+    if ((same.mergedEdges || same.mergedVertices) && model.edgeFaces(e).size() < 2) return false;
+    return true;
+  }
+
   /// Parameters of edge e discretised with the given spacing (as discretizeEdges does with the
   /// field: closed edges get at least 3 segments, none turns by more than 60 degrees).
   std::vector<double> discretizeWith(int e, const std::function<double(Vec3)>& spacing) const {
@@ -836,7 +845,7 @@ struct Mesher::Impl {
                                         std::asin(std::min(1.0, std::sin(ang * kPi / 180) * lb / lc))}) * 180.0 / kPi;
           if (ears >= 30.0) continue;
           const int longEdge = la > lb ? P.edge : V.edge;
-          if (degen[longEdge] || staggered_.size() == (size_t)ne && staggered_[longEdge]) continue;
+          if (!mayRespace(longEdge, degen) || (staggered_.size() == (size_t)ne && staggered_[longEdge])) continue;
           if (ts[longEdge].size() < 3) continue;  // a single segment cannot be shortened at one end
           found.push_back({longEdge, {V.xyz, kCornerRatio * std::min(la, lb)}});
         }
