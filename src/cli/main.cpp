@@ -161,6 +161,7 @@ int cmdMesh(int argc, char** argv) {
       }
     } else if (a == "--proximity") p.proximity = parseInt(a, next());
     else if (a == "--nearest-face-check") p.nearestFaceCheck = true;
+    else if (a == "--nearest-face-budget") p.nearestFaceBudget = parseNumber(a, next());
     else if (a == "--no-stagger") p.staggerNarrowGaps = false;
     else if (a == "--quads") p.quads = true;
     else if (a == "--report") report = next();

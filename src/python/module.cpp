@@ -188,6 +188,7 @@ PYBIND11_MODULE(_native, mod) {
       .def_readwrite("optimize_passes", &MeshParams::optimizePasses)
       .def_readwrite("proximity", &MeshParams::proximity)
       .def_readwrite("nearest_face_check", &MeshParams::nearestFaceCheck)
+      .def_readwrite("nearest_face_budget", &MeshParams::nearestFaceBudget)
       .def_readwrite("local_sizes", &MeshParams::localSizes)
       .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)
       .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
-"""The nearest-face check (nearest_face_check=True): on a coarse mesh of the propeller, triangles
+"""The nearest-face check (nearest_face_check=True, and by default within nearest_face_budget):
+on a coarse mesh of the propeller, triangles
 of the fillets between the hub and its caps cut so deep that their centroid lies nearer the cap
 than their own fillet. Measured here with FreeCAD's Part (OpenCASCADE distToShape on the trimmed
 faces), independently of ParaMesh: more than 5 % of the size off its own face and another face
@@ -63,8 +64,8 @@ def edge_uses(res):
 @needs_freecad
 def test_propeller_fillet_triangles_come_back_to_their_face():
     shape = bc.read_shape(PROPELLER)
-    plain = pm.mesh_shape(PROPELLER, size=H)
-    assert "nearest_face_check" not in plain.report, "off by default"
+    plain = pm.mesh_shape(PROPELLER, size=H, nearest_face_budget=0)
+    assert "nearest_face_check" not in plain.report, "off with a zero budget"
     before = wrong_side(shape, plain, H)
     assert len(before) >= 4, before  # the fillet Face75 against the cap Face76, and others
     assert {(a, b) for _, a, b in before} >= {(75, 76)}
@@ -86,3 +87,22 @@ def test_propeller_fillet_triangles_come_back_to_their_face():
 def test_nearest_face_check_is_a_bool():
     with pytest.raises(TypeError, match="nearest_face_check"):
         pm.mesh_shape(PROPELLER, nearest_face_check=1)
+
+
+@needs_freecad
+def test_by_default_refined_within_the_budget():
+    """By default the check runs and its refinement is kept when it adds at most 10 % triangles:
+    the propeller at diagonal/100 (4.4 % more) comes out like nearest_face_check=True; with a 1 %
+    budget the unrefined mesh is kept, and the report warns how many triangles are wrong-side."""
+    shape = bc.read_shape(PROPELLER)
+    r = pm.mesh_shape(PROPELLER, size=H)
+    nf = r.report["nearest_face_check"]
+    assert nf["outcome"] == "refined" and nf["remaining"] == 0 and nf["triangle_growth"] <= 0.10, nf
+    assert wrong_side(shape, r, H) == []
+    tight = pm.mesh_shape(PROPELLER, size=H, nearest_face_budget=0.01)
+    nf = tight.report["nearest_face_check"]
+    assert nf["outcome"] == "kept unrefined" and nf["remaining"] == nf["flagged_per_round"][0] > 0, nf
+    assert any("nearer another CAD face" in w for w in tight.report["warnings"])
+    plain = pm.mesh_shape(PROPELLER, size=H, nearest_face_budget=0)
+    assert len(tight.triangles) == len(plain.triangles), "the unrefined mesh, exactly"
+    assert np.array_equal(tight.triangles, plain.triangles)

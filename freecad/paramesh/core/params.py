@@ -26,7 +26,11 @@ FIELDS = {
                   "measures them). 0: off."),
     "nearest_face_check": ("bool", "Refine triangles cut so deep into a thin part (more than 4.5 % of size) "
                            "that their centroid lies nearer another CAD face than their own, and mesh "
-                           "again (at most 6 times). Off: coarse meshes keep their size conformity."),
+                           "again (at most 6 times), whatever it costs. Off: the same check runs within "
+                           "nearest_face_budget."),
+    "nearest_face_budget": ("fraction", "By default the nearest-face refinement is kept when it adds at most "
+                            "this fraction of triangles (0.1 = 10 %); otherwise the unrefined mesh is kept "
+                            "and the report warns. 0: no automatic check."),
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
@@ -167,6 +171,7 @@ class MeshParams:
     optimize_passes: int = 4
     proximity: int = 0
     nearest_face_check: bool = False
+    nearest_face_budget: float = 0.10
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
 
@@ -197,6 +202,7 @@ class MeshParams:
         self.proximity = _number("proximity", self.proximity, lo=0, hi=100, integer=True)
         if not isinstance(self.nearest_face_check, bool):
             raise TypeError(f"nearest_face_check must be True or False, got {self.nearest_face_check!r}")
+        self.nearest_face_budget = _number("nearest_face_budget", self.nearest_face_budget, lo=0, hi=10)
         if isinstance(self.local_sizes, (dict, str, LocalSize)):
             self.local_sizes = [self.local_sizes]
         if isinstance(self.boundary_layers, (dict, BoundaryLayer)):
@@ -213,7 +219,8 @@ class MeshParams:
         from .. import _native
         n = _native.MeshParams()
         for name in ("size", "min_size", "max_size", "curvature_angle", "max_deviation", "grading",
-                     "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check"):
+                     "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check",
+                     "nearest_face_budget"):
             setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:

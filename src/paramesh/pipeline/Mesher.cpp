@@ -213,6 +213,7 @@ struct Mesher::Impl {
     MeshParams q = p;
     q.proximity = 0;
     q.nearestFaceCheck = false;
+    q.nearestFaceBudget = 0;
     q.order = 1;
     q.quads = false;
     q.optimizePasses = 1;
@@ -784,8 +785,13 @@ struct Mesher::Impl {
   /// overlap another patch's free edge in part, and their default discretisations match there.
   bool mayRespace(int e, const std::vector<char>& degen) const {
     if (degen[e]) return false;
-    if ((same.mergedEdges || same.mergedVertices) && model.edgeFaces(e).size() < 2) return false;
-    return true;
+    if (!(same.mergedEdges || same.mergedVertices)) return true;
+    // faces using the edge or a coincident twin of it
+    size_t uses = 0;
+    const int r = same.edgeRep[e];
+    for (int k = 0; k < model.numEdges() && uses < 2; ++k)
+      if (same.edgeRep[k] == r) uses += model.edgeFaces(k).size();
+    return uses >= 2;
   }
 
   /// Parameters of edge e discretised with the given spacing (as discretizeEdges does with the
@@ -1286,7 +1292,7 @@ struct Mesher::Impl {
     // t/6 of its edge length off the surface: allow no more (10 degrees: 0.029)
     fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
     fo.minSplitLength = 0.5 * p.minSize;
-    fo.reportOffSurface = p.nearestFaceCheck;
+    fo.reportOffSurface = p.nearestFaceCheck || p.nearestFaceBudget > 0;
     parallelFor(nf, threads, [&](int f) {
       progress.poll();
       Timer ft;
@@ -1416,6 +1422,33 @@ struct Mesher::Impl {
     stage("nearest_face_check", tm.seconds());
     return r.sources;
   }
+  /// What a meshing round produces (edges, faces, their report entries), to go back to it.
+  struct MeshState {
+    SurfaceMesh mesh;
+    SizeField field;
+    std::vector<EdgeMesh> edges;
+    std::vector<int> vertexNode;
+    std::vector<std::array<Vec2, 3>> triUv;
+    std::vector<std::array<Vec2, 4>> quadUv;
+    std::vector<std::array<double, 2>> segmentT;
+    std::vector<FaceReport> faces;
+    std::vector<FaceBLResult::SpecStats> blStats;
+  };
+  MeshState saveState() const { return {mesh, field, edges, vertexNode, triUv, quadUv, segmentT, report.faces, blStats}; }
+  void restoreState(MeshState&& st) {
+    mesh = std::move(st.mesh);
+    field = std::move(st.field);
+    edges = std::move(st.edges);
+    vertexNode = std::move(st.vertexNode);
+    triUv = std::move(st.triUv);
+    quadUv = std::move(st.quadUv);
+    segmentT = std::move(st.segmentT);
+    report.faces = std::move(st.faces);
+    blStats = std::move(st.blStats);
+    offSurface.clear();
+    triDeviation.clear();
+  }
+
   /// Back to the state before the edges were discretised (the size field is set by the caller).
   void resetMesh() {
     SurfaceMesh m;
@@ -1507,9 +1540,12 @@ MeshOutput Mesher::run() {
   d.buildSizeField();
   if (d.p.proximity > 0) d.addProximitySources();
   d.planBoundaryLayers();
-  // the field so far; the nearest-face check adds its sources to it and the mesh is redone
-  const SizeField field0 = d.p.nearestFaceCheck ? d.field : SizeField();
+  // the field so far; the nearest-face check adds its sources to it and the mesh is redone. By
+  // default (no --nearest-face-check) the refined mesh is kept only within the triangle budget.
+  const bool force = d.p.nearestFaceCheck, check = force || d.p.nearestFaceBudget > 0;
+  const SizeField field0 = check ? d.field : SizeField();
   std::vector<SizeSource> extra;
+  std::unique_ptr<Impl::MeshState> unrefined;
   for (int round = 0;; ++round) {
     d.progress.report(0.05, "edges");
     {
@@ -1521,14 +1557,38 @@ MeshOutput Mesher::run() {
                std::to_string(d.field.numSources()) + " size sources");
     d.progress.report(0.15, "faces");
     d.meshFaces();
-    if (!d.p.nearestFaceCheck) break;
+    if (!check) break;
     const auto src = d.nearestFaceCheck();
+    if (round == 0 && !force && !src.empty()) unrefined = std::make_unique<Impl::MeshState>(d.saveState());
     if (src.empty() || round == kNearestFaceRounds) break;
+    // over the budget already: no more rounds (the unrefined mesh is taken back below)
+    if (unrefined && round > 0 &&
+        (double)(d.mesh.triangles.size() + d.mesh.quads.size()) >
+            (1.0 + d.p.nearestFaceBudget) * (double)(unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()))
+      break;
     extra.insert(extra.end(), src.begin(), src.end());
     d.resetMesh();
     d.field = field0;
     for (const SizeSource& s : extra) d.field.addSource(s.p, std::max(s.h, d.p.minSize), kNearestFaceSlope);
     d.field.build();
+  }
+  if (unrefined) {
+    const double growth = (double)(d.mesh.triangles.size() + d.mesh.quads.size()) /
+                              std::max<size_t>(1, unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()) - 1.0;
+    d.report.nearestFaceGrowth = growth;
+    if (growth <= d.p.nearestFaceBudget) {
+      d.report.nearestFaceOutcome = "refined";
+    } else {
+      const int flagged = d.report.nearestFaceFlagged.front();
+      d.restoreState(std::move(*unrefined));
+      d.report.nearestFaceOutcome = "kept unrefined";
+      d.report.warnings.push_back(
+          std::to_string(flagged) + " triangles are cut so deep into thin parts that their centroid lies nearer another CAD face "
+          "than their own; refining them would add " + std::to_string((int)std::lround(100 * growth)) +
+          " % triangles or more (budget " + fmt(100 * d.p.nearestFaceBudget) +
+          " %): left unrefined (--nearest-face-check refines anyway)");
+      d.log.warn(d.report.warnings.back());
+    }
   }
   if (d.p.order == 2) d.secondOrder();
   d.finish();

@@ -37,6 +37,9 @@ void MeshParams::validate() const {
   if (threads < 0 || threads > 1024) throw ParameterError("threads must be in [0, 1024] (got " + std::to_string(threads) + ")");
   if (proximity < 0 || proximity > 100)
     throw ParameterError("proximity must be in [0, 100] elements (got " + std::to_string(proximity) + ")");
+  if (!finite(nearestFaceBudget) || nearestFaceBudget < 0 || nearestFaceBudget > 10)
+    throw ParameterError("nearest_face_budget must be in [0, 10] (a fraction of the triangles; got " +
+                         num(nearestFaceBudget) + ")");
   if (order != 1 && order != 2) throw ParameterError("order must be 1 or 2 (got " + std::to_string(order) + ")");
   if (optimizePasses < 0 || optimizePasses > 100)
     throw ParameterError("optimize_passes must be in [0, 100] (got " + std::to_string(optimizePasses) + ")");

@@ -48,6 +48,10 @@ struct MeshParams {
   /// nearer another CAD face than their own, are refined: the mesh is redone with sizes there, at
   /// most 6 times. Off by default (it trades size conformity for fidelity on coarse meshes).
   bool nearestFaceCheck = false;
+  /// The same check runs by default, and its refinement is kept when it adds at most this
+  /// fraction of triangles (otherwise the unrefined mesh is kept and the report warns how many
+  /// triangles lie nearer another face). 0: no automatic check. Ignored when nearestFaceCheck.
+  double nearestFaceBudget = 0.10;
   int optimizePasses = 4;     ///< passes of the 3D optimiser (swap + smooth + split/collapse)
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;

@@ -115,6 +115,7 @@ void applyParamsJson(const std::string& text, MeshParams& p) {
     else if (k == "optimize_passes") p.optimizePasses = integer(v, k);
     else if (k == "proximity") p.proximity = integer(v, k);
     else if (k == "nearest_face_check") p.nearestFaceCheck = boolean(v, k);
+    else if (k == "nearest_face_budget") p.nearestFaceBudget = num(v, k);
     else if (k == "local_sizes") {
       if (!v.isArray()) throw ParameterError("parameter 'local_sizes' must be a list");
       for (size_t i = 0; i < v.size(); ++i) p.localSizes.push_back(localSize(v.at(i), "local_sizes[" + std::to_string(i) + "]"));

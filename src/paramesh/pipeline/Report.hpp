@@ -73,6 +73,9 @@ struct Report {
   /// nearest-face check: triangles found nearer another face than their own, per meshing round
   /// (the last entry is the final mesh's count; one entry when the first mesh had none)
   std::vector<int> nearestFaceFlagged;
+  /// "refined" (kept), "kept unrefined" (over the budget) or "" (not run / nothing flagged)
+  std::string nearestFaceOutcome;
+  double nearestFaceGrowth = 0;  ///< triangles after refinement / before - 1
   size_t sizeSources = 0;
   std::vector<FaceReport> faces;
   std::vector<BoundaryLayerReport> boundaryLayers;

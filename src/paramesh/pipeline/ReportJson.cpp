@@ -35,7 +35,12 @@ Json reportToJson(const Report& r) {
     Json& nf = j["nearest_face_check"];
     Json& rounds = nf["flagged_per_round"];
     for (int k : r.nearestFaceFlagged) rounds.push(k);
-    nf["remaining"] = r.nearestFaceFlagged.back();
+    // the kept mesh's count: the first round's when the refinement was not kept
+    nf["remaining"] = r.nearestFaceOutcome == "kept unrefined" ? r.nearestFaceFlagged.front() : r.nearestFaceFlagged.back();
+    if (!r.nearestFaceOutcome.empty()) {
+      nf["outcome"] = r.nearestFaceOutcome;
+      nf["triangle_growth"] = r.nearestFaceGrowth;
+    }
   }
   if (r.order == 2) {
     Json& ho = j["second_order"];

@@ -38,6 +38,7 @@ class SurfaceMesh(BaseProxy):
         add_property(obj, "App::PropertyBool", "Quads", GROUP, _tip("quads"), False)
         add_property(obj, "App::PropertyInteger", "Proximity", GROUP, _tip("proximity"), 0)
         add_property(obj, "App::PropertyBool", "NearestFaceCheck", GROUP, _tip("nearest_face_check"), False)
+        add_property(obj, "App::PropertyFloat", "NearestFaceBudget", GROUP, _tip("nearest_face_budget"), 0.10)
         add_property(obj, "App::PropertyInteger", "Threads", GROUP, _tip("threads"), 0)
         add_property(obj, "App::PropertyInteger", "OptimizePasses", GROUP, _tip("optimize_passes"), 4)
         add_property(obj, "App::PropertyLinkList", "BoundaryLayerList", GROUP,
@@ -62,7 +63,8 @@ class SurfaceMesh(BaseProxy):
                        order=2 if obj.ElementOrder == "2nd" else 1, quads=bool(obj.Quads),
                        optimize_passes=int(obj.OptimizePasses),
                        proximity=int(getattr(obj, "Proximity", 0)),
-                       nearest_face_check=bool(getattr(obj, "NearestFaceCheck", False)))
+                       nearest_face_check=bool(getattr(obj, "NearestFaceCheck", False)),
+                       nearest_face_budget=float(getattr(obj, "NearestFaceBudget", 0.10)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
