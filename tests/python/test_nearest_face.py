@@ -99,10 +99,24 @@ def test_by_default_refined_within_the_budget():
     nf = r.report["nearest_face_check"]
     assert nf["outcome"] == "refined" and nf["remaining"] == 0 and nf["triangle_growth"] <= 0.10, nf
     assert wrong_side(shape, r, H) == []
+    assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"
+    # the rounds after the first mesh again only the faces the new sizes reach (the others keep
+    # their mesh: node for node the same as without the check)
+    plain = pm.mesh_shape(PROPELLER, size=H, nearest_face_budget=0)
+    nfaces = len(shape.Faces)
+    again = nf["faces_remeshed_per_round"]
+    assert len(again) == len(nf["flagged_per_round"]) - 1 and max(again) < 0.8 * nfaces, (again, nfaces)
+
+    def face_points(res, f):
+        t = res.triangles[res.triangle_face == f]
+        return np.sort(np.round(res.nodes[t].reshape(-1, 3), 9), axis=0)
+
+    same = sum(1 for f in range(1, nfaces + 1)
+               if np.array_equal(face_points(r, f), face_points(plain, f)))
+    assert same >= 0.3 * nfaces, (same, nfaces, again)  # measured: 37 of 76
     tight = pm.mesh_shape(PROPELLER, size=H, nearest_face_budget=0.01)
     nf = tight.report["nearest_face_check"]
     assert nf["outcome"] == "kept unrefined" and nf["remaining"] == nf["flagged_per_round"][0] > 0, nf
     assert any("nearer another CAD face" in w for w in tight.report["warnings"])
-    plain = pm.mesh_shape(PROPELLER, size=H, nearest_face_budget=0)
     assert len(tight.triangles) == len(plain.triangles), "the unrefined mesh, exactly"
     assert np.array_equal(tight.triangles, plain.triangles)

@@ -106,6 +106,18 @@ struct Mesher::Impl {
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
+  /// The previous meshing round of the nearest-face check: a face whose edges kept their nodes
+  /// and that no new size source reaches keeps its mesh (the size field there is unchanged, and
+  /// meshing a face is deterministic: re-meshing it would give the same elements).
+  struct PreviousRound {
+    std::vector<FaceMeshResult> results;
+    std::vector<FaceReport> reports;
+    std::vector<EdgeMesh> edges;
+    std::vector<Box3> box;  ///< per face: its mesh's bounding box
+  };
+  std::unique_ptr<PreviousRound> previous_;
+  std::vector<SizeSource> roundSources_;  ///< the sources added since the previous round
+  double roundSlope_ = 0;                 ///< their grading slope
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -1293,7 +1305,9 @@ struct Mesher::Impl {
     fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
     fo.minSplitLength = 0.5 * p.minSize;
     fo.reportOffSurface = p.nearestFaceCheck || p.nearestFaceBudget > 0;
+    const std::vector<char> reused = reusePreviousRound(results);
     parallelFor(nf, threads, [&](int f) {
+      if (reused[f]) return;
       progress.poll();
       Timer ft;
       FaceReport& fr = report.faces[f];
@@ -1382,6 +1396,81 @@ struct Mesher::Impl {
       fr.nodes = (int)r.newXyz.size();
     }
     stage("assemble", ta.seconds());
+    if (fo.reportOffSurface && blLaws.empty()) {  // kept for the next round of the nearest-face check
+      auto prev = std::make_unique<PreviousRound>();
+      prev->box.assign(nf, Box3());
+      for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int v : mesh.triangles[t]) prev->box[mesh.triangleFace[t] - 1].add(mesh.nodes[v]);
+      prev->results = std::move(results);
+      prev->reports = report.faces;
+      prev->edges = edges;
+      previous_ = std::move(prev);
+    }
+  }
+
+  /// Fills results[f] with the previous round's mesh of every face that can keep it (node
+  /// references renumbered); returns which. A face keeps its mesh when each of its edges has the
+  /// same nodes as before and no source added since lies within its reach of the face's box
+  /// (h + slope * d >= hmax beyond it: the field there is what it was).
+  std::vector<char> reusePreviousRound(std::vector<FaceMeshResult>& results) {
+    const int nf = model.numFaces();
+    std::vector<char> reused(nf, 0);
+    if (!previous_) return reused;
+    std::unique_ptr<PreviousRound> prev = std::move(previous_);
+    const int ne = model.numEdges();
+    std::vector<char> edgeSame(ne, 0);
+    for (int e = 0; e < ne && (size_t)e < prev->edges.size(); ++e)
+      edgeSame[e] = prev->edges[e].t == edges[e].t && prev->edges[e].degenerate == edges[e].degenerate &&
+                    prev->edges[e].nodes.size() == edges[e].nodes.size();
+    const double hmax = field.hmax();
+    int kept = 0;
+    for (int f = 0; f < nf; ++f) {
+      bool ok = !prev->box[f].empty() || !prev->reports[f].ok;
+      for (const Wire& w : model.faceWires(f))
+        for (const EdgeUse& u : w.uses) ok = ok && edgeSame[same.edgeRep[u.edge]];
+      if (!ok) continue;
+      if (prev->reports[f].ok) {
+        // the field is queried on the surface between the nodes too: one size of margin
+        const Box3& b = prev->box[f];
+        for (const SizeSource& src : roundSources_) {
+          const double reach = (hmax - src.h) / roundSlope_ + hmax;
+          Vec3 d{0, 0, 0};
+          for (int k = 0; k < 3; ++k) d[k] = std::max({b.lo[k] - src.p[k], src.p[k] - b.hi[k], 0.0});
+          if (norm(d) < reach) {
+            ok = false;
+            break;
+          }
+        }
+      }
+      if (!ok) continue;
+      // boundary nodes: old id -> new id through the face's edges
+      std::unordered_map<int, int> to;
+      for (const Wire& w : model.faceWires(f))
+        for (const EdgeUse& u : w.uses) {
+          const int e = same.edgeRep[u.edge];
+          for (size_t i = 0; i < edges[e].nodes.size(); ++i) to[prev->edges[e].nodes[i]] = edges[e].nodes[i];
+        }
+      FaceMeshResult r = std::move(prev->results[f]);
+      auto renumber = [&](int& v) {
+        if (v < 0) return true;
+        auto it = to.find(v);
+        if (it == to.end()) return false;
+        v = it->second;
+        return true;
+      };
+      for (auto& t : r.tris)
+        for (int& v : t) ok = ok && renumber(v);
+      for (auto& q : r.quads)
+        for (int& v : q) ok = ok && renumber(v);
+      if (!ok) continue;  // a node of another edge (cannot happen with unchanged edges): mesh anew
+      results[f] = std::move(r);
+      report.faces[f] = prev->reports[f];
+      reused[f] = 1;
+      ++kept;
+    }
+    log.info("nearest-face round: " + std::to_string(nf - kept) + " of " + std::to_string(nf) + " faces meshed again");
+    report.nearestFaceRemeshed.push_back(nf - kept);
+    return reused;
   }
 
   // ---------------------------------------------------------------- nearest-face check
@@ -1567,11 +1656,15 @@ MeshOutput Mesher::run() {
             (1.0 + d.p.nearestFaceBudget) * (double)(unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()))
       break;
     extra.insert(extra.end(), src.begin(), src.end());
+    d.roundSources_ = src;
+    for (SizeSource& s : d.roundSources_) s.h = std::max(s.h, d.p.minSize);
+    d.roundSlope_ = kNearestFaceSlope;
     d.resetMesh();
     d.field = field0;
     for (const SizeSource& s : extra) d.field.addSource(s.p, std::max(s.h, d.p.minSize), kNearestFaceSlope);
     d.field.build();
   }
+  d.previous_.reset();
   if (unrefined) {
     const double growth = (double)(d.mesh.triangles.size() + d.mesh.quads.size()) /
                               std::max<size_t>(1, unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()) - 1.0;

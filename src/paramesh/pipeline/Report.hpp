@@ -73,6 +73,8 @@ struct Report {
   /// nearest-face check: triangles found nearer another face than their own, per meshing round
   /// (the last entry is the final mesh's count; one entry when the first mesh had none)
   std::vector<int> nearestFaceFlagged;
+  /// nearest-face check: faces meshed again in each round after the first (the others kept theirs)
+  std::vector<int> nearestFaceRemeshed;
   /// "refined" (kept), "kept unrefined" (over the budget) or "" (not run / nothing flagged)
   std::string nearestFaceOutcome;
   double nearestFaceGrowth = 0;  ///< triangles after refinement / before - 1

@@ -35,6 +35,10 @@ Json reportToJson(const Report& r) {
     Json& nf = j["nearest_face_check"];
     Json& rounds = nf["flagged_per_round"];
     for (int k : r.nearestFaceFlagged) rounds.push(k);
+    if (!r.nearestFaceRemeshed.empty()) {
+      Json& again = nf["faces_remeshed_per_round"];
+      for (int k : r.nearestFaceRemeshed) again.push(k);
+    }
     // the kept mesh's count: the first round's when the refinement was not kept
     nf["remaining"] = r.nearestFaceOutcome == "kept unrefined" ? r.nearestFaceFlagged.front() : r.nearestFaceFlagged.back();
     if (!r.nearestFaceOutcome.empty()) {
