@@ -425,6 +425,30 @@ TEST(Curvature, AnalyticSurfaces) {
   }
 }
 
+TEST(Curvature, StretchedCellsSplitAcrossTheirLengthOnly) {
+  // a long cylinder: the base grid (at most 256 cells a side) has cells 8 times longer than wide;
+  // leaves come out about square in 3D, so the sources are about area / (leaf size)^2, not the
+  // aspect ratio times more
+  const double R = 2.5, H = 2000, angle = 10 * M_PI / 180, h = 0.75 * R * angle;
+  auto m = viaBrep(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), R, H).Shape());
+  const int f = faceOfKind(*m, SurfaceKind::Cylinder);
+  ASSERT_GE(f, 0);
+  const std::vector<SizeSource> src = faceCurvatureSources(*m, f, angle, 0.01, 2.0);
+  const double area = 2 * M_PI * R * H;
+  EXPECT_LE((double)src.size(), 4.5 * area / (h * h));  // measured 3.6 (splitting both ways: 5.1)
+  // and they still cover the face: every point within h of a source
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> A(0, 2 * M_PI), Z(0, H);
+  SizeField near(2.0, 100.0);  // slope 99: the size at x tells the distance to the nearest source
+  for (const SizeSource& s : src) near.addSource(s.p, 0.01);
+  near.build();
+  for (int i = 0; i < 500; ++i) {
+    const double a = A(rng), z = Z(rng);
+    const Vec3 p{R * std::cos(a), R * std::sin(a), z};
+    EXPECT_LE((near.size(p) - 0.01) / 99.0, h) << "at z = " << z;
+  }
+}
+
 TEST(Curvature, CylinderFaceSources) {
   const double R = 2.5, H = 4, angle = 10 * M_PI / 180;
   const gp_Pnt loc(1, -1, 0.5);

@@ -49,20 +49,33 @@ struct FaceSampler {
   long evals = 0;
 
   /// One evaluation (second derivatives) at the cell centre gives the size asked there and the
-  /// cell's 3D extent (first order); cells larger than the size are split, leaves emit a source.
-  void cell(Vec2 lo, Vec2 hi, int depth) {
+  /// cell's 3D extent along u and v (first order); cells larger than the size are split, leaves
+  /// emit a source. A cell is halved only across the directions in which it is long (at least
+  /// half its other extent), so that leaves are about square in 3D: where the parametrisation is
+  /// stretched (blade surfaces near their leading edge) splitting both ways would make leaves
+  /// far thinner than the size in one direction and multiply the sources by their aspect ratio.
+  void cell(Vec2 lo, Vec2 hi, int depthU, int depthV) {
     const Vec2 c = 0.5 * (lo + hi);
     SurfaceD2 d;
     s.d2(c, d);
     ++evals;
     const double k = curvatureFromD2(d);
     const double h = curvatureSize(k, angle, deviation, hmin, hmax);
-    const double ext = norm(d.du) * (hi.x - lo.x) + norm(d.dv) * (hi.y - lo.y);
-    if (depth < 10 && ext > 1.2 * h && h < hmax && evals < 2000000) {
-      cell(lo, c, depth + 1);
-      cell({c.x, lo.y}, {hi.x, c.y}, depth + 1);
-      cell({lo.x, c.y}, {c.x, hi.y}, depth + 1);
-      cell(c, hi, depth + 1);
+    const double eu = norm(d.du) * (hi.x - lo.x), ev = norm(d.dv) * (hi.y - lo.y);
+    const bool splitU = depthU < 10 && eu >= 0.5 * ev, splitV = depthV < 10 && ev >= 0.5 * eu;
+    if ((splitU || splitV) && eu + ev > 1.2 * h && h < hmax && evals < 2000000) {
+      if (splitU && splitV) {
+        cell(lo, c, depthU + 1, depthV + 1);
+        cell({c.x, lo.y}, {hi.x, c.y}, depthU + 1, depthV + 1);
+        cell({lo.x, c.y}, {c.x, hi.y}, depthU + 1, depthV + 1);
+        cell(c, hi, depthU + 1, depthV + 1);
+      } else if (splitU) {
+        cell(lo, {c.x, hi.y}, depthU + 1, depthV);
+        cell({c.x, lo.y}, hi, depthU + 1, depthV);
+      } else {
+        cell(lo, {hi.x, c.y}, depthU, depthV + 1);
+        cell({lo.x, c.y}, hi, depthU, depthV + 1);
+      }
       return;
     }
     if (h < hmax && dom.inside(c)) out.push_back({d.p, h});
@@ -112,7 +125,7 @@ std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, dou
     for (int j = 0; j < nv; ++j) {
       Vec2 lo{b.u0 + (b.u1 - b.u0) * i / nu, b.v0 + (b.v1 - b.v0) * j / nv};
       Vec2 hi{b.u0 + (b.u1 - b.u0) * (i + 1) / nu, b.v0 + (b.v1 - b.v0) * (j + 1) / nv};
-      fs.cell(lo, hi, 0);
+      fs.cell(lo, hi, 0, 0);
     }
   return out;
 }
