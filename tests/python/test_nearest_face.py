@@ -120,3 +120,23 @@ def test_by_default_refined_within_the_budget():
     assert any("nearer another CAD face" in w for w in tight.report["warnings"])
     assert len(tight.triangles) == len(plain.triangles), "the unrefined mesh, exactly"
     assert np.array_equal(tight.triangles, plain.triangles)
+
+
+BOXED = os.path.join(ROOT, "tests", "data", "boxed_sphere.step")
+
+
+def test_refinement_that_does_not_converge_is_dropped():
+    """boxed_sphere at diagonal/200: 89 triangles on three-sided corner patches are flagged, and
+    refining them flags more each round (89, 155, 203). After two rounds without progress the
+    check stops, and the unrefined mesh is kept: the same triangles as without the check, a
+    warning, and no face of the last rounds meshed again that the new sizes do not reach."""
+    h = 17.463420722835245 / 200  # bounding-box diagonal / 200
+    plain = pm.mesh_shape(BOXED, size=h, nearest_face_budget=0)
+    r = pm.mesh_shape(BOXED, size=h)
+    nf = r.report["nearest_face_check"]
+    fl = nf["flagged_per_round"]
+    assert len(fl) == 3 and fl[2] >= fl[1] >= fl[0] > 0, nf
+    assert nf["outcome"] == "kept unrefined" and nf["remaining"] == fl[0], nf
+    assert any("left unrefined" in w for w in r.report["warnings"])
+    assert np.array_equal(r.triangles, plain.triangles) and np.allclose(r.nodes, plain.nodes)
+    assert max(nf["faces_remeshed_per_round"]) < 0.25 * 192, nf  # measured: 38 of 192
