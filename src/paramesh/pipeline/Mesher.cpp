@@ -67,6 +67,12 @@ constexpr double kStaggerTo = 0.58;
 constexpr double kStaggerWindow = 1.1;
 constexpr double kStaggerMaxSpacing = 1.2;
 constexpr double kStaggerMaxAspect = 3.3;
+// strips narrower than staggering can serve (below ~0.39 h: every triangle across them has an
+// angle below 30 degrees at any spacing in the unit band) and at least kWideStripNodes nodes long
+// get the widest spacing in the band, kWideStripSpacing sizes: the fewest such triangles
+constexpr int kWideStripNodes = 8;
+constexpr double kWideStripSpacing = 1.3;
+constexpr double kWideStripMinWidth = 0.15;
 
 struct EdgeMesh {
   std::vector<double> t;
@@ -673,8 +679,9 @@ struct Mesher::Impl {
       Vec3 x;
       double b;
     };
-    std::vector<std::vector<Want>> wants(ne);
+    std::vector<std::vector<Want>> wants(ne), wide(ne);
     std::map<std::pair<int, int>, int> weight;
+    std::map<std::pair<int, int>, std::vector<const NarrowGap*>> tooNarrow;  // (edge, edge across)
     for (const auto& fg : gaps)
       for (const NarrowGap& g : fg) {
         const double h = field.size(g.p);
@@ -683,7 +690,11 @@ struct Mesher::Impl {
         // leader spacings between bLen (slanted edges h/sqrt2) and bAng (base angles 31 degrees),
         // with room for the follower's side being a little longer than the leader's
         const double bLen = 2.0 * std::sqrt(std::max(0.5 - r * r, 0.0)) * h, bAng = kStaggerMaxAspect * g.width;
-        if (bAng < kStaggerWindow * bLen) continue;
+        if (bAng < kStaggerWindow * bLen) {
+          if (r > kWideStripMinWidth && g.edgeIn == g.edgeOut && g.edgeIn >= 0 && g.edgeAcross >= 0 && g.edgeAcross != g.edgeIn)
+            tooNarrow[{g.edgeIn, g.edgeAcross}].push_back(&g);
+          continue;
+        }
         const double b = std::min(std::max(h, 1.06 * bLen), std::min(kStaggerMaxSpacing * h, bAng / 1.04));
         const int across = g.edgeAcross;
         if (across < 0 || !mayRespace(across, degen)) continue;
@@ -696,7 +707,33 @@ struct Mesher::Impl {
           if (g.edgeIn == g.edgeOut) break;
         }
       }
-    if (weight.empty()) return false;
+    // long strips too narrow to stagger: both sides widened (where neither side is staggered)
+    for (const auto& kv : tooNarrow) {
+      if ((int)kv.second.size() < kWideStripNodes) continue;
+      const int e = kv.first.first, a = kv.first.second;
+      if (!mayRespace(e, degen) || !mayRespace(a, degen)) continue;
+      for (const NarrowGap* g : kv.second) {
+        const double b = kWideStripSpacing * field.size(g->p);
+        wide[e].push_back({g->p, b});
+        wide[a].push_back({g->q, b});
+      }
+    }
+    int widened = 0;
+    auto widen = [&](int e) {
+      const auto& W = wide[e];
+      ts[e] = discretizeWith(e, [&](Vec3 x) {
+        double h = field.size(x);
+        for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
+        return h;
+      });
+      ++widened;
+    };
+    if (weight.empty()) {
+      for (int e = 0; e < ne; ++e)
+        if (!wide[e].empty()) widen(e);
+      if (widened) log.info("narrow gaps: " + std::to_string(widened) + " sides of long narrow strips widened");
+      return widened > 0;
+    }
     std::vector<std::pair<int, std::pair<int, int>>> pairs;
     for (const auto& kv : weight) pairs.push_back({kv.second, kv.first});
     std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
@@ -786,10 +823,13 @@ struct Mesher::Impl {
       ++staggered;
       ++changed;
     }
-    if (changed)
+    for (int e = 0; e < ne; ++e)
+      if (!wide[e].empty() && !staggered_[e] && !follower[e]) widen(e);
+    if (changed || widened)
       log.info("narrow gaps: " + std::to_string(staggered) + " edges staggered against " +
-               std::to_string(changed - staggered) + " widened ones");
-    return changed > 0;
+               std::to_string(changed - staggered) + " widened ones; " + std::to_string(widened) +
+               " sides of long narrow strips widened");
+    return changed + widened > 0;
   }
 
   /// May the boundary stages (narrow gaps, corners, strip ends) change edge e's discretisation?
