@@ -118,6 +118,9 @@ def test_by_default_refined_within_the_budget():
     nf = tight.report["nearest_face_check"]
     assert nf["outcome"] == "kept unrefined" and nf["remaining"] == nf["flagged_per_round"][0] > 0, nf
     assert any("nearer another CAD face" in w for w in tight.report["warnings"])
+    # predicted far over a 1 % budget (about 11 %) before meshing again: no second round
+    assert nf["flagged_per_round"] == nf["flagged_per_round"][:1] and "faces_remeshed_per_round" not in nf, nf
+    assert any("would add about" in w for w in tight.report["warnings"])
     assert len(tight.triangles) == len(plain.triangles), "the unrefined mesh, exactly"
     assert np.array_equal(tight.triangles, plain.triangles)
 
