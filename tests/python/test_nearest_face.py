@@ -128,18 +128,21 @@ def test_by_default_refined_within_the_budget():
 BOXED = os.path.join(ROOT, "tests", "data", "boxed_sphere.step")
 
 
-def test_refinement_that_does_not_converge_is_dropped():
-    """boxed_sphere at diagonal/200: 89 triangles on three-sided corner patches are flagged, and
-    refining them flags more each round (89, 155, 203). After two rounds without progress the
-    check stops, and the unrefined mesh is kept: the same triangles as without the check, a
-    warning, and no face of the last rounds meshed again that the new sizes do not reach."""
+def test_feet_among_the_triangles_own_nodes_are_not_off_the_face():
+    """boxed_sphere at diagonal/200: on the three-sided corner patches (Face4 and its copies) the
+    projection of a centroid lands among the triangle's own (u,v) corners, yet the p-curves put it
+    outside the patch (FreeCAD's isInside says so too). Such a foot is where the triangle's nodes
+    say the face is, so those triangles are no candidates: before, 89 of them were flagged and
+    refining flagged more each round (89, 155, 203); now at most a few are, the refinement adds
+    almost nothing, and the corner patches keep the unrefined mesh."""
     h = 17.463420722835245 / 200  # bounding-box diagonal / 200
     plain = pm.mesh_shape(BOXED, size=h, nearest_face_budget=0)
     r = pm.mesh_shape(BOXED, size=h)
     nf = r.report["nearest_face_check"]
-    fl = nf["flagged_per_round"]
-    assert len(fl) == 3 and fl[2] >= fl[1] >= fl[0] > 0, nf
-    assert nf["outcome"] == "kept unrefined" and nf["remaining"] == fl[0], nf
-    assert any("left unrefined" in w for w in r.report["warnings"])
-    assert np.array_equal(r.triangles, plain.triangles) and np.allclose(r.nodes, plain.nodes)
-    assert max(nf["faces_remeshed_per_round"]) < 0.25 * 192, nf  # measured: 38 of 192
+    assert nf["flagged_per_round"][0] <= 5 and nf["remaining"] == 0, nf  # measured: 2, then 0
+    assert len(r.triangles) < 1.001 * len(plain.triangles)
+    assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"
+    for f in (4, 5, 6, 7):
+        a = np.sort(np.round(r.nodes[r.triangles[r.triangle_face == f]].reshape(-1, 3), 9), axis=0)
+        b = np.sort(np.round(plain.nodes[plain.triangles[plain.triangle_face == f]].reshape(-1, 3), 9), axis=0)
+        assert np.array_equal(a, b), f

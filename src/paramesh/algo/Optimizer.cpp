@@ -50,7 +50,13 @@ double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside) const {
   Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
   Vec3 p;
   const bool ok = C_.project(g, s, p);
-  if (footOutside) *footOutside = ok && !C_.inDomain(s);
+  if (footOutside && ok && !C_.inDomain(s)) {
+    // outside the trimmed face, and outside the triangle's own (u,v) corners too: a foot among
+    // the triangle's own nodes (which lie on the face) is where they say the face is, even when
+    // the boundary's p-curves disagree (boxed_sphere's corner patches)
+    const double w0 = orient2d(b.uv, c.uv, s), w1 = orient2d(c.uv, a.uv, s), w2 = orient2d(a.uv, b.uv, s);
+    *footOutside = !((w0 >= 0 && w1 >= 0 && w2 >= 0) || (w0 <= 0 && w1 <= 0 && w2 <= 0));
+  }
   return dist(p, g);
 }
 
