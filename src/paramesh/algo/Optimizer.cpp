@@ -260,15 +260,19 @@ bool Optimizer::tryMove(int v, Vec3 goal, const std::function<bool(const RingSta
   return false;
 }
 
+bool Optimizer::movableWithRing(int v) {
+  const TriVertex& V = T_.verts[v];
+  if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) return false;
+  bool closed = true;
+  T_.ring(v, ring_, &closed);
+  return closed && ring_.size() >= 3;
+}
+
 int Optimizer::smoothPass() {
   int moved = 0;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
     poll(v);
-    const TriVertex& V = T_.verts[v];
-    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0 || !inRegion(v)) continue;
-    bool closed = true;
-    T_.ring(v, ring_, &closed);
-    if (!closed || ring_.size() < 3) continue;
+    if (!inRegion(v) || !movableWithRing(v)) continue;
     const RingStats r0 = ringStats();
     // the ring's worst triangle gets better, or the ring gets better on average while its worst
     // stays good (above 0.8 and at most 2 % lower)
@@ -287,11 +291,8 @@ int Optimizer::lengthPass() {
   std::vector<int> link;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
     poll(v);
+    if (!inRegion(v) || !movableWithRing(v)) continue;
     const TriVertex& V = T_.verts[v];
-    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0 || !inRegion(v)) continue;
-    bool closed = true;
-    T_.ring(v, ring_, &closed);
-    if (!closed || ring_.size() < 3) continue;
     link.clear();
     for (int t : ring_) link.push_back(T_.tris[t].v[nx(T_.indexOf(t, v))]);
     auto outOfBand = [&]() {
@@ -600,11 +601,8 @@ bool Optimizer::relocateForAngles(int t) {
   const Triangle tr = T_.tris[t];
   for (int k = 0; k < 3; ++k) {
     const int v = tr.v[k];
+    if (!movableWithRing(v)) continue;
     TriVertex& V = T_.verts[v];
-    if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) continue;
-    bool closed = true;
-    T_.ring(v, ring_, &closed);
-    if (!closed || ring_.size() < 3) continue;
     auto ringMin = [&]() {
       double m = 1e300;
       for (int r : ring_) {

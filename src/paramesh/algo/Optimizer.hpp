@@ -104,6 +104,9 @@ class Optimizer {
     double minQ = 1e300, sumQ = 0, minSin = 1e300;
   };
   RingStats ringStats() const;
+  /// Vertex v may move (not on the boundary, a pole, the super-triangle or dead) and its ring is a
+  /// closed fan of at least 3 triangles, left in ring_.
+  bool movableWithRing(int v);
   /// Moves vertex v (whose ring is ring_) towards goal, then halfway, keeping the first position
   /// where the ring is valid and accept(its stats) holds; false, v unchanged, otherwise.
   bool tryMove(int v, Vec3 goal, const std::function<bool(const RingStats&)>& accept);

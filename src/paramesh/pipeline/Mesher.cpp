@@ -719,22 +719,14 @@ struct Mesher::Impl {
         wide[a].push_back({g->q, b});
       }
     }
-    int widened = 0;
-    auto widen = [&](int e) {
-      const auto& W = wide[e];
+    // the field's size, raised to each wanted spacing near where it is wanted (graded away)
+    auto discretizeWidened = [&](int e, const std::vector<Want>& W) {
       ts[e] = discretizeWith(e, [&](Vec3 x) {
         double h = field.size(x);
         for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
         return h;
       });
-      ++widened;
     };
-    if (weight.empty()) {
-      for (int e = 0; e < ne; ++e)
-        if (!wide[e].empty()) widen(e);
-      if (widened) log.info("narrow gaps: " + std::to_string(widened) + " sides of long narrow strips widened");
-      return widened > 0;
-    }
     std::vector<std::pair<int, std::pair<int, int>>> pairs;
     for (const auto& kv : weight) pairs.push_back({kv.second, kv.first});
     std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
@@ -767,13 +759,7 @@ struct Mesher::Impl {
     // leaders that follow no one: spacing widened along their gaps
     for (int e = 0; e < ne; ++e) {
       if (!leads[e] || follower[e] || wants[e].empty()) continue;
-      const auto& W = wants[e];
-      auto spacing = [&](Vec3 x) {
-        double h = field.size(x);
-        for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
-        return h;
-      };
-      ts[e] = discretizeWith(e, spacing);
+      discretizeWidened(e, wants[e]);
       staggered_[e] = 1;
       ++changed;
     }
@@ -824,8 +810,12 @@ struct Mesher::Impl {
       ++staggered;
       ++changed;
     }
+    int widened = 0;
     for (int e = 0; e < ne; ++e)
-      if (!wide[e].empty() && !staggered_[e] && !follower[e]) widen(e);
+      if (!wide[e].empty() && !staggered_[e] && !follower[e]) {
+        discretizeWidened(e, wide[e]);
+        ++widened;
+      }
     if (changed || widened)
       log.info("narrow gaps: " + std::to_string(staggered) + " edges staggered against " +
                std::to_string(changed - staggered) + " widened ones; " + std::to_string(widened) +
