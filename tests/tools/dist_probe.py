@@ -17,6 +17,7 @@ import sys
 sys.path.append('/usr/lib/freecad-python3/lib')
 import FreeCAD  # noqa: E402,F401  (FreeCAD before Part)
 import Part  # noqa: E402
+from cad_read import read_cad  # noqa: E402
 
 
 def main():
@@ -25,10 +26,7 @@ def main():
     ap.add_argument('x', type=float); ap.add_argument('y', type=float); ap.add_argument('z', type=float)
     ap.add_argument('--step', type=float, default=5e-5)
     a = ap.parse_args()
-    if a.cad.lower().endswith(('.brep', '.brp')):
-        s = Part.Shape(); s.read(a.cad)
-    else:
-        s = Part.read(a.cad)
+    s = read_cad(a.cad)
     f = s.Faces[a.face - 1]
     p = FreeCAD.Vector(a.x, a.y, a.z)
     d0 = Part.Vertex(p).distToShape(f)[0]

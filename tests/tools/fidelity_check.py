@@ -24,12 +24,8 @@ _shape = None
 
 def _load(cad):
     global _shape
-    import FreeCAD, Part  # noqa: F401  (FreeCAD before Part)
-    if cad.lower().endswith(('.brep', '.brp')):
-        s = Part.Shape(); s.read(cad)
-    else:
-        s = Part.read(cad)
-    _shape = s
+    from cad_read import read_cad
+    _shape = read_cad(cad)
 
 
 def _work(args):

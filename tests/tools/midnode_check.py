@@ -29,14 +29,7 @@ import numpy as np
 import meshio
 import FreeCAD  # noqa: F401  (must precede Part)
 import Part
-
-
-def load_cad(path):
-    if path.lower().endswith(('.brep', '.brp')):
-        s = Part.Shape()
-        s.read(path)
-        return s
-    return Part.read(path)
+from cad_read import read_cad
 
 
 # --- shape-function derivatives -------------------------------------------------------------------
@@ -120,7 +113,7 @@ def main():
     ap.add_argument('--jmin', type=float, default=0.0, help='scaled Jacobian must be > jmin')
     ap.add_argument('--worst', type=int, default=5, help='list this many worst offenders')
     a = ap.parse_args()
-    shape = load_cad(a.model)
+    shape = read_cad(a.model)
     faces = shape.Faces
     edges = shape.Edges
     P, cells = read_mesh(a.mesh)

@@ -16,6 +16,7 @@ import numpy as np  # noqa: E402
 import meshio  # noqa: E402
 import FreeCAD  # noqa: E402  (FreeCAD before Part)
 import Part  # noqa: E402
+from cad_read import read_cad  # noqa: E402
 
 
 def main():
@@ -24,10 +25,7 @@ def main():
     ap.add_argument('--size', type=float, required=True)
     ap.add_argument('--limit', type=float, default=0.05)
     a = ap.parse_args()
-    if a.cad.lower().endswith(('.brep', '.brp')):
-        s = Part.Shape(); s.read(a.cad)
-    else:
-        s = Part.read(a.cad)
+    s = read_cad(a.cad)
     faces = s.Faces
     m = meshio.read(a.mesh)
     P = m.points

@@ -15,6 +15,7 @@ import sys
 sys.path.append('/usr/lib/freecad-python3/lib')
 import FreeCAD  # noqa: E402,F401  (FreeCAD before Part)
 import Part  # noqa: E402
+from cad_read import read_cad  # noqa: E402
 
 
 def main():
@@ -23,10 +24,7 @@ def main():
     ap.add_argument('x', type=float); ap.add_argument('y', type=float); ap.add_argument('z', type=float)
     ap.add_argument('--span', type=float, default=0.07); ap.add_argument('--steps', type=int, default=15)
     a = ap.parse_args()
-    if a.cad.lower().endswith(('.brep', '.brp')):
-        s = Part.Shape(); s.read(a.cad)
-    else:
-        s = Part.read(a.cad)
+    s = read_cad(a.cad)
     f = s.Faces[a.face - 1]
     S = f.Surface
     print('Face%d: %s, parameter range %s' % (a.face, type(S).__name__, tuple(round(x, 4) for x in f.ParameterRange)))
