@@ -81,6 +81,8 @@ struct EdgeMesh {
   bool degenerate = false;
 };
 
+size_t elementCount(const SurfaceMesh& m) { return m.triangles.size() + m.quads.size(); }
+
 std::string fmt(double x) {
   std::ostringstream s;
   s.precision(6);
@@ -123,8 +125,7 @@ struct Mesher::Impl {
     std::vector<std::vector<Vec3>> points;  ///< per face: its mesh's nodes
   };
   std::unique_ptr<PreviousRound> previous_;
-  std::vector<SizeSource> roundSources_;  ///< the sources added since the previous round
-  double roundSlope_ = 0;                 ///< their grading slope
+  std::vector<SizeSource> roundSources_;  ///< the sources added since the previous round (slope kNearestFaceSlope)
   int threads = 1;
 
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -1465,7 +1466,7 @@ struct Mesher::Impl {
     std::vector<double> reach(roundSources_.size());
     double rmax = 0;
     for (size_t i = 0; i < reach.size(); ++i) {
-      reach[i] = (hmax - roundSources_[i].h) / roundSlope_ + hmax;
+      reach[i] = (hmax - roundSources_[i].h) / kNearestFaceSlope + hmax;
       rmax = std::max(rmax, reach[i]);
     }
     BoxGrid near(std::max(rmax, 1e-300));
@@ -1689,7 +1690,7 @@ MeshOutput Mesher::run() {
     d.progress.report(0.15, "faces");
     d.meshFaces();
     if (!check) break;
-    const auto src = d.nearestFaceCheck();
+    auto src = d.nearestFaceCheck();
     if (round == 0 && !force && !src.empty()) unrefined = std::make_unique<Impl::MeshState>(d.saveState());
     if (src.empty() || round == kNearestFaceRounds) break;
     // two rounds in a row without fewer flagged triangles: the refinement does not converge
@@ -1700,8 +1701,7 @@ MeshOutput Mesher::run() {
     if (nr >= 3 && fl[nr - 1] >= fl[nr - 2] && fl[nr - 2] >= fl[nr - 3]) break;
     // over the budget already: no more rounds (the unrefined mesh is taken back below)
     if (unrefined && round > 0 &&
-        (double)(d.mesh.triangles.size() + d.mesh.quads.size()) >
-            (1.0 + d.p.nearestFaceBudget) * (double)(unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()))
+        (double)elementCount(d.mesh) > (1.0 + d.p.nearestFaceBudget) * (double)elementCount(unrefined->mesh))
       break;
     extra.insert(extra.end(), src.begin(), src.end());
     SizeField next = field0;
@@ -1719,22 +1719,20 @@ MeshOutput Mesher::run() {
         count += r * r;
       }
       count += (double)d.mesh.quads.size();
-      const double g = count / std::max<size_t>(1, unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()) - 1.0;
+      const double g = count / (double)std::max<size_t>(1, elementCount(unrefined->mesh)) - 1.0;
       if (g > kPredictMargin * d.p.nearestFaceBudget) {
         predictedGrowth = g;
         break;
       }
     }
-    d.roundSources_ = src;
-    for (SizeSource& s : d.roundSources_) s.h = std::max(s.h, d.p.minSize);
-    d.roundSlope_ = kNearestFaceSlope;
+    d.roundSources_ = std::move(src);
     d.resetMesh();
     d.field = std::move(next);
   }
   d.previous_.reset();
   if (unrefined) {
-    const double growth = std::max(predictedGrowth, (double)(d.mesh.triangles.size() + d.mesh.quads.size()) /
-                              std::max<size_t>(1, unrefined->mesh.triangles.size() + unrefined->mesh.quads.size()) - 1.0);
+    const double growth = std::max(predictedGrowth, (double)elementCount(d.mesh) /
+                                                        (double)std::max<size_t>(1, elementCount(unrefined->mesh)) - 1.0);
     d.report.nearestFaceGrowth = growth;
     const int flagged0 = d.report.nearestFaceFlagged.front(), left = d.report.nearestFaceFlagged.back();
     if (left >= flagged0 && predictedGrowth < 0) {  // refining did not help: the unrefined mesh is as good and smaller
