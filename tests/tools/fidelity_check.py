@@ -13,6 +13,11 @@ face within the edge's tolerance carry that offset into every triangle built on 
 refinement can remove it. `over_limit_beyond_cad_gap` counts the triangles still over the limit
 after subtracting the mean offset of their nodes. Uses FreeCAD's Part (OpenCASCADE distToShape);
 run with Debian's /usr/bin/python3.
+
+Issue 2 words the limit as a distance "from the CAD": for each triangle over the limit against its
+own face, the distance from its centroid to the whole shape (every face) is measured too, and
+`over_limit_to_cad` counts those still over it (a centroid that left its own trimmed face across a
+curved trim boundary can lie on the neighbouring face).
 """
 import argparse, json, sys
 sys.path.append('/usr/lib/freecad-python3/lib')
@@ -39,13 +44,15 @@ def _work(args):
         L = (np.linalg.norm(tri[0] - tri[1]) + np.linalg.norm(tri[1] - tri[2]) + np.linalg.norm(tri[2] - tri[0])) / 3
         d = Part.Vertex(FreeCAD.Vector(*c)).distToShape(f)[0]
         gap = 0.0
+        dcad = d
         if d / L > _limit:
+            dcad = min(d, Part.Vertex(FreeCAD.Vector(*c)).distToShape(_shape)[0])
             S = f.Surface
             for p in tri:
                 v = FreeCAD.Vector(*p)
                 u, w = S.parameter(v)
                 gap += (S.value(u, w) - v).Length / 3
-        out.append((d / L, max(d - gap, 0.0) / L, L))
+        out.append((d / L, max(d - gap, 0.0) / L, L, dcad / L))
     return out
 
 
@@ -79,7 +86,7 @@ def main():
     else:
         parts = [_work((P[T[c]], E[c])) for c in chunks]
     order = np.concatenate(chunks)
-    res = np.array([r for part in parts for r in part]) if len(order) else np.zeros((0, 3))
+    res = np.array([r for part in parts for r in part]) if len(order) else np.zeros((0, 4))
     ratios, beyond = res[:, 0], res[:, 1]
     worst = np.argsort(-ratios)[:a.worst]
     out = {'triangles': int(len(T)), 'checked': int(len(order)), 'ratio_max': float(ratios.max()),
@@ -87,7 +94,9 @@ def main():
            'limit': a.ratio, 'over_limit': int((ratios > a.ratio).sum()),
            'over_limit_beyond_cad_gap': int((beyond > a.ratio).sum()),
            'ratio_beyond_cad_gap_max': float(beyond.max()),
-           'worst': [{'ratio': float(ratios[k]), 'beyond_cad_gap': float(beyond[k]), 'face': int(E[order[k]]),
+           'over_limit_to_cad': int((res[:, 3] > a.ratio).sum()),
+           'ratio_to_cad_max': float(res[:, 3].max()),
+           'worst': [{'ratio': float(ratios[k]), 'beyond_cad_gap': float(beyond[k]), 'to_cad': float(res[k, 3]), 'face': int(E[order[k]]),
                       'mean_edge': float(res[k, 2]), 'centroid': [round(float(x), 4) for x in P[T[order[k]]].mean(0)]}
                      for k in worst]}
     print(json.dumps(out, indent=1))

@@ -131,7 +131,16 @@ struct Mesher::Impl {
   Impl(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
       : model(m), p(std::move(params)), log(std::move(sink)), progress(std::move(cb)) {}
 
-  void stage(const char* name, double seconds) { report.stageSeconds.emplace_back(name, seconds); }
+  /// Adds seconds to a stage: edges, faces and the nearest-face check run once per round, and the
+  /// report gives each stage's sum over the rounds (discarded ones too: they are part of total).
+  void stage(const char* name, double seconds) {
+    for (auto& kv : report.stageSeconds)
+      if (kv.first == name) {
+        kv.second += seconds;
+        return;
+      }
+    report.stageSeconds.emplace_back(name, seconds);
+  }
 
   // ---------------------------------------------------------------- parameters
   void resolveParams() {

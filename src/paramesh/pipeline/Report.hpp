@@ -82,7 +82,7 @@ struct Report {
   std::vector<FaceReport> faces;
   std::vector<BoundaryLayerReport> boundaryLayers;
   std::vector<ProposedEdge> proposedLeadingEdges;  ///< filled when a layer asked for auto edges
-  std::vector<std::pair<std::string, double>> stageSeconds;
+  std::vector<std::pair<std::string, double>> stageSeconds;  ///< per stage, summed over nearest-face rounds
   QualitySummary quality;
   std::vector<std::string> warnings;
   std::vector<std::string> extraJson;       ///< "key": value fragments added by optional stages
