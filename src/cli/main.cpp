@@ -93,7 +93,11 @@ std::vector<double> parseList(const std::string& opt, const char* s, size_t n) {
 int cmdInfo(int argc, char** argv) {
   if (argc < 3) die(1, "info: missing MODEL");
   try {
-    auto m = loadOccModel(argv[2]);
+    std::unique_ptr<IGeometryModel> m;
+    {
+      OccReaderSignalGuard guard;
+      m = loadOccModel(argv[2]);
+    }
     std::printf("%s: %d faces, %d edges, %d vertices, %d solids, diagonal %.6g\n", argv[2], m->numFaces(),
                 m->numEdges(), m->numVertices(), m->numSolids(), m->boundingBox().diagonal());
     for (int f = 0; f < m->numFaces(); ++f) {
@@ -199,6 +203,7 @@ int cmdMesh(int argc, char** argv) {
   if (outs.empty() && report.empty() && png.empty()) die(1, "mesh: give an output with -o OUT");
   std::unique_ptr<IGeometryModel> geo;
   try {
+    OccReaderSignalGuard guard;  // a reader crashing on a damaged file: an error, not a crash
     geo = loadOccModel(model);
   } catch (const Error& e) {
     die(2, e.what());

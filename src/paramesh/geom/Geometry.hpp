@@ -142,6 +142,8 @@ class IGeometryModel {
   virtual Box3 boundingBox() const = 0;
   /// Free-text description of where the model came from (file name, "BREP string").
   virtual std::string source() const = 0;
+  /// What the reader noticed while reading a damaged file (entities it skipped), for the report.
+  virtual std::vector<std::string> readWarnings() const { return {}; }
 };
 
 }  // namespace paramesh

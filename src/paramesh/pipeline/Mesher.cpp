@@ -55,6 +55,8 @@ constexpr double kCornerSlope = 0.5;
 constexpr double kCornerMinRatio = 0.35;  // of the size: shorter neighbour segments are left alone
 // the nearest-face check meshes again at most this many times
 constexpr int kNearestFaceRounds = 6;
+/// Coordinates beyond this (model units) are damaged geometry, not a model (resolveParams).
+constexpr double kMaxCoordinate = 1e12;
 // its size sources act locally: sizes grow away from them by 0.6 per unit length (grading 1.6),
 // so that the refinement stays on the thin part (at the global grading, 1.3, the propeller's
 // fillets pulled % len OK from 90 to 79 at diagonal/100; at 1.6, 86)
@@ -145,8 +147,16 @@ struct Mesher::Impl {
   // ---------------------------------------------------------------- parameters
   void resolveParams() {
     p.validate();
-    const double diag = model.boundingBox().diagonal();
+    const Box3 box = model.boundingBox();
+    const double diag = box.diagonal();
     if (!(diag > 0)) throw InputError("the model has zero extent");
+    // a damaged number (a B-spline pole at 1e300 in a fuzzed occBSplCone.brep) made the edge
+    // discretisation run for ever; no real model reaches 1e12 model units
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(box.lo[i]) || !std::isfinite(box.hi[i]) || std::fabs(box.lo[i]) > kMaxCoordinate ||
+          std::fabs(box.hi[i]) > kMaxCoordinate)
+        throw InputError("the model's bounding box reaches " + fmt(std::max(std::fabs(box.lo[i]), std::fabs(box.hi[i]))) +
+                         " (beyond " + fmt(kMaxCoordinate) + " model units): its geometry is damaged");
     if (p.size == 0) p.size = diag / 50.0;
     if (p.maxSize == 0) p.maxSize = p.size;
     // curvature sizing resolves radii down to size/1000 unless told otherwise (fillets, blade
@@ -181,6 +191,10 @@ struct Mesher::Impl {
     report.grading = p.grading;
     report.threads = threads;
     report.source = model.source();
+    for (const std::string& w : model.readWarnings()) {
+      report.warnings.push_back(w);
+      log.warn(w);
+    }
     report.cadFaces = model.numFaces();
     report.cadEdges = model.numEdges();
     report.cadVertices = model.numVertices();
@@ -544,7 +558,19 @@ struct Mesher::Impl {
       const auto q = [eps](double x, int d) { return (uint64_t)((int64_t)std::floor(x / (4 * eps)) + d) & 0x1FFFFF; };
       return (q(p.x, di) << 42) | (q(p.y, dj) << 21) | q(p.z, dk);
     };
+    // a curve that leaves the model's box by more than its diagonal is damaged (a B-spline pole
+    // at 1e300 in a fuzzed occBSplCone.brep: its nodes all fell into one hash cell, a quadratic hang)
+    Box3 reach = model.boundingBox();
+    const double diag = reach.diagonal();
+    for (int i = 0; i < 3; ++i) {
+      reach.lo[i] -= diag;
+      reach.hi[i] += diag;
+    }
     auto edgeNode = [&](Vec3 p, int e, double t) {
+      for (int i = 0; i < 3; ++i)
+        if (!(p[i] >= reach.lo[i] && p[i] <= reach.hi[i]))
+          throw InputError("Edge" + std::to_string(e + 1) + ": its curve passes through (" + fmt(p.x) + ", " + fmt(p.y) +
+                           ", " + fmt(p.z) + "), far outside the model's bounding box: its geometry is damaged");
       for (int di = -1; di <= 1; ++di)
         for (int dj = -1; dj <= 1; ++dj)
           for (int dk = -1; dk <= 1; ++dk) {

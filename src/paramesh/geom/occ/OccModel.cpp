@@ -14,11 +14,16 @@
 #include <Geom2d_Curve.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_Printer.hxx>
 #include <Message_SequenceOfPrinters.hxx>
 #include <STEPControl_Reader.hxx>
+#include <OSD.hxx>
+#include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -38,6 +43,7 @@
 #include <cctype>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <streambuf>
 #include <mutex>
 #include <sstream>
@@ -276,6 +282,8 @@ class OccModel final : public IGeometryModel {
   int faceSolid(int f) const override { return faceData_[f].solid; }
   Box3 boundingBox() const override { return box_; }
   std::string source() const override { return source_; }
+  std::vector<std::string> readWarnings() const override { return readWarnings_; }
+  std::vector<std::string> readWarnings_;
 
  private:
   TopoDS_Edge edge(int e) const { return TopoDS::Edge(edges_(e + 1).Oriented(TopAbs_FORWARD)); }
@@ -334,7 +342,149 @@ bool looksLikeBrep(const std::string& head) {
   return head.find("CASCADE Topology V") != std::string::npos;
 }
 
-TopoDS_Shape readShape(const std::string& path) {
+/// What is structurally wrong with a BREP text, or "" when nothing was found. OpenCASCADE's BREP
+/// reader does not stop at the end of a truncated text: it can loop on its failed stream for
+/// minutes (a wing.brep cut inside its TShapes section spent over 60 s allocating p-curves), so a
+/// text is checked first for its sections, in order, for as many shape records (each closed by
+/// '*') as its TShapes header announces, and for the root shape reference after them.
+std::string brepStructureProblem(const std::string& text) {
+  static const char* const kSections[] = {"Locations",  "Curve2ds", "Curves",         "Polygon3D",
+                                          "PolygonOnTriangulations", "Surfaces", "Triangulations",
+                                          "TShapes"};
+  size_t at = 0;
+  long long shapes = -1;
+  for (const char* name : kSections) {
+    const std::string key = std::string("\n") + name + " ";
+    const size_t k = text.find(key, at);
+    if (k == std::string::npos)
+      return std::string("no '") + name + "' section where one belongs (the text is cut short or damaged)";
+    at = k + key.size();
+    size_t e = at;
+    while (e < text.size() && std::isdigit((unsigned char)text[e])) ++e;
+    if (e == at || e - at > 12) return std::string("the '") + name + "' section has no valid count";
+    if (std::string(name) == "TShapes") shapes = std::stoll(text.substr(at, e - at));
+    at = e;
+  }
+  // shape records: each ends with a '*' token; then the root reference, e.g. "+1 0"
+  long long stars = 0;
+  size_t lastStar = std::string::npos;
+  for (size_t i = at; i < text.size(); ++i) {
+    if (text[i] == '*' && std::isspace((unsigned char)text[i - 1]) &&
+        (i + 1 == text.size() || std::isspace((unsigned char)text[i + 1]))) {
+      ++stars;
+      lastStar = i;
+    }
+  }
+  if (stars < shapes)
+    return "the TShapes section holds " + std::to_string(stars) + " of its " + std::to_string(shapes) +
+           " shape records (the text is cut short)";
+  std::istringstream tail(lastStar == std::string::npos ? text.substr(at) : text.substr(lastStar + 1));
+  std::string ref, loc;
+  if (!(tail >> ref >> loc) || ref.size() < 2 || (ref[0] != '+' && ref[0] != '-') ||
+      !std::all_of(ref.begin() + 1, ref.end(), [](char c) { return std::isdigit((unsigned char)c); }) ||
+      !std::all_of(loc.begin(), loc.end(), [](char c) { return std::isdigit((unsigned char)c); }))
+    return "no root shape reference after the TShapes section (the text is cut short)";
+  return "";
+}
+
+TopoDS_Shape readBrepText(const std::string& text, const std::string& what) {
+  const std::string problem = brepStructureProblem(text);
+  if (!problem.empty()) throw InputError(what + " is not a complete BREP text: " + problem);
+  // OpenCASCADE's reader goes on after a value fails to parse (a damaged number, a line too
+  // many or too few) and can loop on the failed stream for ever (fuzz cases of wing.brep and
+  // sheet_metal_54.brep): the stream throws at the first failed extraction instead
+  std::istringstream in(text);
+  in.exceptions(std::ios::failbit | std::ios::badbit);
+  TopoDS_Shape shape;
+  BRep_Builder b;
+  try {
+    BRepTools::Read(shape, in, b);
+  } catch (const std::ios_base::failure&) {
+    const std::streamoff at = in.rdbuf()->pubseekoff(0, std::ios::cur, std::ios::in);
+    const size_t pos = at < 0 ? text.size() : std::min(text.size(), (size_t)at);
+    const long line = 1 + std::count(text.begin(), text.begin() + (std::ptrdiff_t)pos, '\n');
+    throw InputError(what + " is not a readable BREP text: a value could not be read at line " +
+                     std::to_string(line));
+  }
+  return shape;
+}
+
+/// Entities the STEP / IGES reader found damaged (a failed load check: an unresolved reference,
+/// an entity of the wrong type, a syntax error), with the first such message; entities whose only
+/// fault is a name that is not a quoted string (boxed_sphere.step has 295, all harmless) are not
+/// counted.
+int damagedEntities(XSControl_Reader& r, std::string& first) {
+  int n = 0;
+  Interface_CheckIterator chk = r.WS()->ModelCheckList();
+  for (chk.Start(); chk.More(); chk.Next()) {
+    const Handle(Interface_Check)& c = chk.Value();
+    bool real = false;
+    for (int i = 1; i <= c->NbFails() && !real; ++i) {
+      const std::string msg = c->CFail(i);
+      if (msg.find("quoted String") == std::string::npos) {
+        real = true;
+        if (first.empty()) first = msg;
+      }
+    }
+    if (real) ++n;
+  }
+  return n;
+}
+
+std::string damageWarning(const char* format, int n, const std::string& first, const std::string& path) {
+  return std::string("the ") + format + " reader found " + std::to_string(n) + " damaged entities in '" + path +
+         "' (first: " + first + "): the shape may lack parts";
+}
+
+/// The last non-blank line of a text file (at most its last 4 kB are read).
+std::string lastLine(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::streamoff size = in.tellg();
+  const std::streamoff from = std::max<std::streamoff>(0, size - 4096);
+  in.seekg(from);
+  std::string tail((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  size_t e = tail.find_last_not_of(" \t\r\n");
+  if (e == std::string::npos) return "";
+  size_t b = tail.find_last_of("\r\n", e);
+  return tail.substr(b == std::string::npos ? 0 : b + 1, e - (b == std::string::npos ? 0 : b + 1) + 1);
+}
+
+/// The readers themselves; readShape() runs them under OCC_CATCH_SIGNALS.
+TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext, std::vector<std::string>& warnings) {
+  TopoDS_Shape shape;
+  if (ext == "step" || ext == "stp") {
+    const std::string last = lastLine(path);
+    if (last.find("END-ISO-10303-21;") == std::string::npos)
+      throw InputError("'" + path + "' is cut short: a STEP file ends with END-ISO-10303-21;");
+    STEPControl_Reader r;
+    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError("'" + path + "' is not a readable STEP file");
+    std::string first;
+    if (const int bad = damagedEntities(r, first)) warnings.push_back(damageWarning("STEP", bad, first, path));
+    int n = r.NbRootsForTransfer();
+    for (int i = 1; i <= n; ++i) r.TransferRoot(i);
+    shape = r.OneShape();
+  } else if (ext == "iges" || ext == "igs") {
+    const std::string last = lastLine(path);
+    if (last.size() < 73 || last[72] != 'T')
+      throw InputError("'" + path + "' is cut short: an IGES file ends with its Terminate (T) section line");
+    IGESControl_Reader r;
+    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError("'" + path + "' is not a readable IGES file");
+    std::string first;
+    if (const int bad = damagedEntities(r, first)) warnings.push_back(damageWarning("IGES", bad, first, path));
+    r.ClearShapes();
+    r.TransferRoots();
+    shape = r.OneShape();
+  } else {
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!looksLikeBrep(text.substr(0, 512)))
+      throw InputError("'" + path + "' is not an OpenCASCADE BREP file (no 'CASCADE Topology' header)");
+    shape = readBrepText(text, "'" + path + "'");
+  }
+  return shape;
+}
+
+TopoDS_Shape readShape(const std::string& path, std::vector<std::string>& warnings) {
   const std::string ext = lowerExt(path);
   if (ext != "step" && ext != "stp" && ext != "iges" && ext != "igs" && ext != "brep" && ext != "brp")
     throw InputError("unknown CAD format '." + ext + "' of '" + path +
@@ -346,34 +496,11 @@ TopoDS_Shape readShape(const std::string& path) {
   }
   TopoDS_Shape shape;
   try {
-    if (ext == "step" || ext == "stp") {
-      STEPControl_Reader r;
-      if (r.ReadFile(path.c_str()) != IFSelect_RetDone)
-        throw InputError("'" + path + "' is not a readable STEP file");
-      int n = r.NbRootsForTransfer();
-      for (int i = 1; i <= n; ++i) r.TransferRoot(i);
-      shape = r.OneShape();
-    } else if (ext == "iges" || ext == "igs") {
-      IGESControl_Reader r;
-      if (r.ReadFile(path.c_str()) != IFSelect_RetDone)
-        throw InputError("'" + path + "' is not a readable IGES file");
-      r.ClearShapes();
-      r.TransferRoots();
-      shape = r.OneShape();
-    } else if (ext == "brep" || ext == "brp") {
-      std::ifstream in(path, std::ios::binary);
-      std::string head(512, '\0');
-      in.read(&head[0], (std::streamsize)head.size());
-      head.resize((size_t)in.gcount());
-      if (!looksLikeBrep(head))
-        throw InputError("'" + path + "' is not an OpenCASCADE BREP file (no 'CASCADE Topology' header)");
-      BRep_Builder b;
-      if (!BRepTools::Read(shape, path.c_str(), b))
-        throw InputError("'" + path + "' is not a readable BREP file");
-    } else {
-      throw InputError("unknown CAD format '." + ext + "' of '" + path +
-                       "' (expected .step/.stp, .iges/.igs or .brep/.brp)");
-    }
+    // an access violation inside a reader (OCC 7.6's STEP and IGES readers dereference null
+    // entities of some damaged files) becomes a Standard_Failure here when the application has
+    // installed OpenCASCADE's signal handlers (OccReaderSignalGuard, as the CLI does)
+    OCC_CATCH_SIGNALS
+    shape = readShapeUnguarded(path, ext, warnings);
   } catch (const Standard_Failure& e) {
     throw InputError("OpenCASCADE could not read '" + path + "': " + e.GetMessageString());
   }
@@ -384,9 +511,13 @@ TopoDS_Shape readShape(const std::string& path) {
 }  // namespace
 
 std::unique_ptr<IGeometryModel> loadOccModel(const std::string& path) {
-  TopoDS_Shape s = readShape(path);
+  std::vector<std::string> warnings;
+  TopoDS_Shape s = readShape(path, warnings);
   try {
-    return std::make_unique<OccModel>(s, path);
+    OCC_CATCH_SIGNALS
+    auto m = std::make_unique<OccModel>(s, path);
+    m->readWarnings_ = std::move(warnings);
+    return m;
   } catch (const Standard_Failure& e) {
     throw InputError("OpenCASCADE failed on '" + path + "': " + e.GetMessageString());
   }
@@ -398,14 +529,14 @@ std::unique_ptr<IGeometryModel> loadOccModelFromBrepString(const std::string& br
     throw InputError("not a BREP string (no 'CASCADE Topology' header)");
   SilenceOcc silence;
   try {
-    std::istringstream in(brep);
-    BRep_Builder b;
-    BRepTools::Read(shape, in, b);
+    OCC_CATCH_SIGNALS
+    shape = readBrepText(brep, "the BREP string");
   } catch (const Standard_Failure& e) {
     throw InputError(std::string("not a valid BREP string: ") + e.GetMessageString());
   }
   if (shape.IsNull()) throw InputError("not a valid BREP string (no shape could be read)");
   try {
+    OCC_CATCH_SIGNALS
     return std::make_unique<OccModel>(shape, "BREP string");
   } catch (const Standard_Failure& e) {
     throw InputError(std::string("OpenCASCADE failed on the BREP string: ") + e.GetMessageString());
@@ -413,10 +544,14 @@ std::unique_ptr<IGeometryModel> loadOccModelFromBrepString(const std::string& br
 }
 
 std::string occFileToBrepString(const std::string& path) {
-  TopoDS_Shape s = readShape(path);
+  std::vector<std::string> warnings;
+  TopoDS_Shape s = readShape(path, warnings);
   std::ostringstream out;
   BRepTools::Write(s, out);
   return out.str();
 }
+
+OccReaderSignalGuard::OccReaderSignalGuard() { OSD::SetSignal(OSD_SignalMode_Set, false); }
+OccReaderSignalGuard::~OccReaderSignalGuard() { OSD::SetSignal(OSD_SignalMode_Unset, false); }
 
 }  // namespace paramesh

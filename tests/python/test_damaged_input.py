@@ -1,0 +1,125 @@
+# SPDX-License-Identifier: LGPL-2.1-or-later
+"""Damaged CAD files (the cases tests/tools/fuzz_inputs.py found): each gives a clear error or a
+warning, never a crash, a hang or a silently partial mesh. Through the CLI (its own process, so a
+crash would show as a signal) and through the Python API."""
+import json
+import os
+import subprocess
+import time
+
+import numpy as np
+import pytest
+
+import freecad.paramesh as pm
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+DATA = os.path.join(ROOT, "tests", "data")
+CLI = os.path.join(ROOT, "build", "bin", "paramesh")
+needs_cli = pytest.mark.skipif(not os.path.exists(CLI), reason="needs build/bin/paramesh")
+
+
+def run_cli(*args, timeout=60):
+    p = subprocess.run([CLI, *args], capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stderr.strip()
+
+
+def damaged(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_bytes(text)
+    return str(path)
+
+
+def read(name):
+    return open(os.path.join(DATA, name), "rb").read()
+
+
+@needs_cli
+def test_truncated_brep_is_an_error_not_a_hang(tmp_path):
+    # OpenCASCADE's BREP reader looped for over a minute on this cut (fuzz case: wing.brep cut
+    # inside its TShapes section)
+    text = read("wing.brep")
+    cut = damaged(tmp_path, "cut.brep", text[:int(len(text) * 0.8)])
+    t = time.monotonic()
+    rc, err = run_cli("mesh", cut, "-o", str(tmp_path / "o.msh"))
+    assert time.monotonic() - t < 20
+    assert rc == 2 and len(err.splitlines()) == 1, (rc, err)
+    assert "cut short" in err and "TShapes" in err, err
+    with pytest.raises(pm.InputError, match="cut short"):
+        pm.mesh_file(cut)
+
+
+def test_truncated_brep_string_is_an_error():
+    text = read("wing.brep").decode()
+    with pytest.raises(pm.InputError, match="cut short"):
+        pm.mesh_shape(text[:len(text) // 2])
+
+
+@needs_cli
+@pytest.mark.parametrize("name", ["screw.step", "bearing.iges"])
+def test_truncated_step_and_iges_are_errors(tmp_path, name):
+    # bearing.iges cut at 80 % read as 166 of its 213 faces, silently, before the check
+    src = os.path.join(DATA, name) if os.path.exists(os.path.join(DATA, name)) else \
+        os.path.join(ROOT, "..", "shared", "models", name)
+    if not os.path.exists(src):
+        pytest.skip("no " + name)
+    text = open(src, "rb").read()
+    cut = damaged(tmp_path, "cut" + os.path.splitext(name)[1], text[:int(len(text) * 0.8)])
+    rc, err = run_cli("mesh", cut, "-o", str(tmp_path / "o.msh"))
+    assert rc == 2 and len(err.splitlines()) == 1 and "cut short" in err, (rc, err)
+
+
+@needs_cli
+def test_reader_crash_becomes_an_error(tmp_path):
+    # screw.step without the line of #932 (a CARTESIAN_POINT of a p-curve): OpenCASCADE 7.6's STEP
+    # reader dereferenced the missing point (SIGSEGV in StepGeom_CartesianPoint::NbCoordinates);
+    # the CLI installs OpenCASCADE's signal handlers while it reads, so it is an error now
+    lines = read("screw.step").split(b"\n")
+    kept = [l for l in lines if not l.startswith(b"#932 =")]
+    assert len(kept) == len(lines) - 1
+    bad = damaged(tmp_path, "bad.step", b"\n".join(kept))
+    rc, err = run_cli("mesh", bad, "-o", str(tmp_path / "o.msh"))
+    assert rc == 2 and len(err.splitlines()) == 1, (rc, err)
+
+
+@needs_cli
+def test_missing_face_entity_is_reported(tmp_path):
+    # screw.step without its first ADVANCED_FACE: the reader drops the face (9 of 10, no solid);
+    # the mesh is made of what was read, and the report and stderr say the file is damaged
+    lines = read("screw.step").split(b"\n")
+    i = next(k for k, l in enumerate(lines) if b"ADVANCED_FACE" in l)
+    bad = damaged(tmp_path, "noface.step", b"\n".join(lines[:i] + lines[i + 1:]))
+    rep = tmp_path / "r.json"
+    rc, err = run_cli("mesh", bad, "-o", str(tmp_path / "o.msh"), "--report", str(rep))
+    assert rc == 0, (rc, err)
+    r = json.loads(rep.read_text())
+    assert r["cad"]["faces"] == 9, r["cad"]
+    w = [x for x in r["warnings"] if "damaged entities" in x]
+    assert w and "Unresolved Reference" in w[0], r["warnings"]
+    assert "damaged entities" in err
+
+
+def test_sound_files_have_no_damage_warning():
+    # boxed_sphere.step has 295 entities whose name is not a quoted string: harmless, not counted
+    for name in ["boxed_sphere.step", "screw.step", "ANC101.stp"]:
+        r = pm.mesh_file(os.path.join(DATA, name), size=5.0)
+        assert not [w for w in r.report.get("warnings", []) if "damaged" in w], (name, r.report["warnings"])
+        t = r.triangles
+        e = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+        _, c = np.unique(e, axis=0, return_counts=True)
+        assert c.max() == 2, name
+
+
+@needs_cli
+def test_fuzzed_copies_never_crash_or_hang(tmp_path):
+    """30 seeded mutations of two real models (tests/tools/fuzz_inputs.py): every run ends with a
+    sane mesh or a one-line error, none with a signal, a sanitizer report or a time-out."""
+    import sys
+    tool = os.path.join(ROOT, "tests", "tools", "fuzz_inputs.py")
+    p = subprocess.run([sys.executable, tool, CLI, os.path.join(DATA, "screw.step"), os.path.join(DATA, "wing.brep"),
+                        "--cases", "30", "--seed", "3", "--timeout", "60", "--out", str(tmp_path / "fail")],
+                       capture_output=True, text=True, timeout=1200)
+    r = json.loads(p.stdout)
+    assert r["failures"] == [], r["failures"]
+    assert p.returncode == 0
+    # the mutations reach both outcomes: some copies still mesh, others are refused
+    assert r["outcomes"].get("meshed", 0) > 0 and sum(v for k, v in r["outcomes"].items() if k.startswith("error")) > 0, r
