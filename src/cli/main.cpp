@@ -37,6 +37,7 @@ const char* kUsage =
     "  --grading G           max size ratio between neighbouring elements (default 1.3)\n"
     "  --threads N           worker threads (0: all cores; default 1)\n"
     "  --optimize N          optimisation passes (default 4)\n"
+    "  --max-elements N      stop with an error beyond N elements (default 5e7, about 16 GB)\n"
     "  --report FILE.json    write the run report\n"
     "  --bl-edges E1,E2,...  grow a surface boundary layer from these CAD edges (1-based)\n"
     "  --bl-first-height H0  height of its first row\n"
@@ -140,6 +141,12 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--max-deviation") p.maxDeviation = parseNumber(a, next());
     else if (a == "--threads") p.threads = parseInt(a, next());
     else if (a == "--optimize") p.optimizePasses = parseInt(a, next());
+    else if (a == "--max-elements") {
+      const char* v = next();
+      const double m = parseNumber(a, v);
+      if (!(m >= 1000 && m <= 1e10)) die(1, std::string("--max-elements must be in [1000, 1e10], got ") + v);
+      p.maxElements = (long)m;
+    }
     else if (a == "--order") p.order = parseInt(a, next());
     else if (a == "--bl-edges") {
       bl.edges.clear();

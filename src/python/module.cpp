@@ -186,6 +186,7 @@ PYBIND11_MODULE(_native, mod) {
       .def_readwrite("order", &MeshParams::order)
       .def_readwrite("quads", &MeshParams::quads)
       .def_readwrite("optimize_passes", &MeshParams::optimizePasses)
+      .def_readwrite("max_elements", &MeshParams::maxElements)
       .def_readwrite("proximity", &MeshParams::proximity)
       .def_readwrite("nearest_face_check", &MeshParams::nearestFaceCheck)
       .def_readwrite("nearest_face_budget", &MeshParams::nearestFaceBudget)

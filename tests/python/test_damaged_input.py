@@ -123,3 +123,24 @@ def test_fuzzed_copies_never_crash_or_hang(tmp_path):
     assert p.returncode == 0
     # the mutations reach both outcomes: some copies still mesh, others are refused
     assert r["outcomes"].get("meshed", 0) > 0 and sum(v for k, v in r["outcomes"].items() if k.startswith("error")) > 0, r
+
+
+@needs_cli
+def test_size_far_too_small_fails_at_once(tmp_path):
+    # screw.step (diagonal 103) at size 3e-4 would need about 10^11 triangles: it spent over 10
+    # minutes before the element budget; now the face's area against the budget stops it
+    t = time.monotonic()
+    rc, err = run_cli("mesh", os.path.join(DATA, "screw.step"), "-o", str(tmp_path / "o.msh"), "--size", "0.0003",
+                      timeout=300)
+    assert rc == 1 and "max_elements" in err and len(err.splitlines()) <= 2, (rc, err)
+    assert time.monotonic() - t < 120
+    # a budget the mesh really exceeds while meshing, through the Python API
+    # (about 4 400 triangles at size 1: over a budget of 2 000, within one of 100 000)
+    with pytest.raises(pm.ParameterError, match="max_elements = 2000 "):
+        pm.mesh_file(os.path.join(DATA, "screw.step"), size=1.0, max_elements=2000)
+    ok = pm.mesh_file(os.path.join(DATA, "screw.step"), size=1.0, max_elements=100000)
+    assert 2000 < len(ok.triangles) < 100000
+    with pytest.raises(ValueError, match="max_elements"):
+        pm.mesh_file(os.path.join(DATA, "screw.step"), max_elements=5)
+    rc, err = run_cli("mesh", os.path.join(DATA, "screw.step"), "-o", str(tmp_path / "o.msh"), "--max-elements", "5")
+    assert rc == 1 and "--max-elements" in err

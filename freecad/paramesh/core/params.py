@@ -22,6 +22,9 @@ FIELDS = {
     "order": ("1 or 2", "Element order; 2 puts mid-edge nodes on the CAD."),
     "quads": ("bool", "Quad-dominant surface mesh."),
     "optimize_passes": ("count", "Passes of the 3D optimiser (swaps and smoothing)."),
+    "max_elements": ("count", "The run stops with an error when the faces would hold more elements than "
+                     "this (about 330 bytes each): a size far too small for the model fails at once "
+                     "instead of filling the memory."),
     "proximity": ("count", "At least this many elements across thin walls and narrow faces (a first mesh "
                   "measures them). 0: off."),
     "nearest_face_check": ("bool", "Refine triangles cut so deep into a thin part (more than 4.5 % of size) "
@@ -169,6 +172,7 @@ class MeshParams:
     order: int = 1
     quads: bool = False
     optimize_passes: int = 4
+    max_elements: int = 50_000_000
     proximity: int = 0
     nearest_face_check: bool = False
     nearest_face_budget: float = 0.10
@@ -199,6 +203,7 @@ class MeshParams:
         if not isinstance(self.quads, bool):
             raise TypeError(f"quads must be True or False, got {self.quads!r}")
         self.optimize_passes = _number("optimize_passes", self.optimize_passes, lo=0, hi=100, integer=True)
+        self.max_elements = _number("max_elements", self.max_elements, lo=1000, hi=1e10, integer=True)
         self.proximity = _number("proximity", self.proximity, lo=0, hi=100, integer=True)
         if not isinstance(self.nearest_face_check, bool):
             raise TypeError(f"nearest_face_check must be True or False, got {self.nearest_face_check!r}")
@@ -220,7 +225,7 @@ class MeshParams:
         n = _native.MeshParams()
         for name in ("size", "min_size", "max_size", "curvature_angle", "max_deviation", "grading",
                      "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check",
-                     "nearest_face_budget"):
+                     "nearest_face_budget", "max_elements"):
             setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:

@@ -58,7 +58,7 @@ class Frontal {
     grow();
     for (int t = 0; t < (int)T_.tris.size(); ++t) update(t);
     for (int t = 0; t < (int)T_.tris.size(); ++t) pushIfActive(t);
-    long inserted = 0;
+    long inserted = 0, attempts = 0, spent = 0;
     const Triangulation::FlipTest test = [this](int t, int i) { return T_.metricFlip(t, i); };
     std::vector<int> touched;
     while (!heap_.empty()) {
@@ -68,7 +68,12 @@ class Frontal {
       if (T_.tris[t].dead || stamp_[t] != e.stamp || good_[t]) continue;
       int edge = -1;
       if (!active(t, &edge)) continue;
-      if ((inserted & 1023) == 0 && progress_) progress_->poll();
+      // polled per attempt, not per insertion: on a damaged face most attempts can be rejected
+      if ((++attempts & 1023) == 0 && progress_) {
+        progress_->poll();
+        progress_->spend(std::max<long>(0, inserted - spent));
+        spent = inserted;
+      }
       if (inserted > opt_.maxPoints) break;
       Vec2 s;
       Vec3 p;
@@ -77,7 +82,7 @@ class Frontal {
         continue;
       }
       int onEdge = -1;
-      int where = T_.locate(s, t, &onEdge);
+      int where = T_.locate(s, t, &onEdge, Triangulation::kLocalWalk);
       if (where < 0 || (onEdge >= 0 && T_.isConstrained(where, onEdge)) || tooClose(where, p)) {
         ++rejected;
         forceGood(t);
@@ -105,6 +110,7 @@ class Frontal {
           if (T_.tris[u].n[k] >= 0) pushIfActive(T_.tris[u].n[k]);
       }
     }
+    if (progress_) progress_->spend(inserted - spent);  // the rest (small faces never reach 1024)
   }
 
  private:
@@ -284,7 +290,7 @@ int refineFolded(Triangulation& T, const SurfaceContext& C) {
       const Triangle tr = T.tris[t];
       const Vec2 s = (1.0 / 3) * (T.verts[tr.v[0]].uv + T.verts[tr.v[1]].uv + T.verts[tr.v[2]].uv);
       int e = -1;
-      const int where = T.locate(s, t, &e);
+      const int where = T.locate(s, t, &e, Triangulation::kLocalWalk);
       if (where < 0 || (e >= 0 && T.isConstrained(where, e)) || !C.inDomain(s)) continue;
       const int v = T.addVertex(C.makeVertex(s));
       T.insert(v, where, e, test);
@@ -331,6 +337,16 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     if (!T.buildConstrained(segs, why)) {
       res.error = why;
       return res;
+    }
+    if (progress) {
+      // the fewest points the face can take: its area (the 3D area of the boundary's constrained
+      // triangulation) over the equilateral triangle of the largest size, two triangles a point
+      double area = 0;
+      for (const Triangle& t : T.tris)
+        if (!t.dead)
+          area += 0.5 * norm(cross(T.verts[t.v[1]].xyz - T.verts[t.v[0]].xyz, T.verts[t.v[2]].xyz - T.verts[t.v[0]].xyz));
+      const double hmax = size.hmax();
+      if (hmax > 0) progress->require((long)std::min(1e15, area / (0.4330127 * hmax * hmax) / 2));
     }
     Frontal fr(T, C, opt, progress);
     fr.run();

@@ -147,7 +147,7 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge) {
       const Vec2 s0 = (1.0 / 3) * (T_.verts[tr.v[0]].uv + T_.verts[tr.v[1]].uv + T_.verts[tr.v[2]].uv);
       if (!C_.inDomain(s0)) continue;
       int e = -1;
-      const int where = T_.locate(s0, t, &e);
+      const int where = T_.locate(s0, t, &e, Triangulation::kLocalWalk);
       if (where < 0 || (e >= 0 && T_.isConstrained(where, e))) continue;
       const int v = T_.addVertex(C_.makeVertex(s0));
       const Triangulation::FlipTest none = [](int, int) { return false; };

@@ -78,8 +78,13 @@ class Triangulation {
 
   /// Walks from triangle `start` to the triangle containing p. Returns -1 when the walk leaves the
   /// triangulation or would cross a constrained edge. *onEdge receives the edge index when p lies
-  /// exactly on an edge of the result (else -1).
-  int locate(Vec2 p, int start, int* onEdge = nullptr) const;
+  /// exactly on an edge of the result (else -1). maxSteps > 0 bounds the walk (-1 when it runs
+  /// out); by default 4 x the triangles.
+  int locate(Vec2 p, int start, int* onEdge = nullptr, int maxSteps = 0) const;
+  /// Walk length for points next to their start triangle (the frontal insertion, the optimiser's
+  /// splits): a walk that long means a damaged (folded) triangulation, not a far point (a fuzzed
+  /// propeller_and_shaft.iges face walked 4n steps per point, a quadratic hang).
+  static constexpr int kLocalWalk = 256;
 
   /// Flip predicate: should the edge i of triangle t be flipped (given a convex quad)?
   using FlipTest = std::function<bool(int t, int i)>;

@@ -36,11 +36,17 @@ std::vector<NarrowGap> findNarrowGaps(const std::vector<std::vector<LoopNode>>& 
   if (segs.size() < 4 || !(total > 0)) return out;
   const double cell = maxRatio * total / (double)segs.size();
   BoxGrid grid(std::max(cell, 1e-300));
+  // a segment far longer than the mean (a damaged curve: a fuzzed propeller_and_shaft.iges had
+  // one across the model, millions of cells) is tested against every query instead
+  std::vector<int> longSegs;
   for (size_t k = 0; k < segs.size(); ++k) {
     Box3 b;
     b.add(segs[k].a);
     b.add(segs[k].b);
-    grid.add((int)k, b.lo, b.hi);
+    if (grid.cellsOf(b.lo, b.hi) > 4096)
+      longSegs.push_back((int)k);
+    else
+      grid.add((int)k, b.lo, b.hi);
   }
   for (size_t L = 0; L < loops.size(); ++L) {
     const auto& lp = loops[L];
@@ -57,7 +63,7 @@ std::vector<NarrowGap> findNarrowGaps(const std::vector<std::vector<LoopNode>>& 
       double best = reach;
       int bestSeg = -1;
       Vec3 bestQ = P.xyz;
-      grid.query(P.xyz, reach, [&](int k) {
+      auto consider = [&](int k) {
         const Seg& S = segs[k];
         const int e = loops[S.loop][S.i].edge;
         if (e == eIn || e == eOut) return;
@@ -72,7 +78,14 @@ std::vector<NarrowGap> findNarrowGaps(const std::vector<std::vector<LoopNode>>& 
         best = l;
         bestSeg = k;
         bestQ = q;
-      });
+      };
+      const Vec3 r{reach, reach, reach};
+      if (grid.cellsOf(P.xyz - r, P.xyz + r) > 4096) {  // a node of such a segment: all of them
+        for (int k = 0; k < (int)segs.size(); ++k) consider(k);
+      } else {
+        grid.query(P.xyz, reach, consider);
+        for (int k : longSegs) consider(k);
+      }
       if (bestSeg < 0) continue;
       NarrowGap g;
       g.loop = (int)L;

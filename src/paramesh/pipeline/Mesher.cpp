@@ -183,6 +183,7 @@ struct Mesher::Impl {
       for (int e : p.boundaryLayers[i].edges)
         checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
     threads = resolveThreads(p.threads);
+    progress.setPointBudget(p.maxElements / 2);  // the proximity measurement meshes too
     report.size = p.size;
     report.minSize = p.minSize;
     report.maxSize = p.maxSize;
@@ -1698,6 +1699,18 @@ Mesher::~Mesher() = default;
 void Mesher::cancel() { d_->progress.cancel(); }
 
 MeshOutput Mesher::run() {
+  try {
+    return runUnbudgeted();
+  } catch (const Cancelled&) {
+    if (!d_->progress.overBudget()) throw;
+    throw ParameterError("the mesh would hold more than max_elements = " + std::to_string(d_->p.maxElements) +
+                         " elements at size " + fmt(d_->p.size) + " (the model's diagonal is " +
+                         fmt(d_->model.boundingBox().diagonal()) +
+                         "): use a larger size, or raise max_elements (--max-elements)");
+  }
+}
+
+MeshOutput Mesher::runUnbudgeted() {
   Impl& d = *d_;
   Timer total;
   d.resolveParams();
@@ -1723,6 +1736,7 @@ MeshOutput Mesher::run() {
     d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +
                std::to_string(d.field.numSources()) + " size sources");
     d.progress.report(0.15, "faces");
+    d.progress.setPointBudget(d.p.maxElements / 2);  // a triangle mesh has about half as many points
     d.meshFaces();
     if (!check) break;
     auto src = d.nearestFaceCheck();

@@ -27,12 +27,14 @@ class Mesher {
   Mesher(const IGeometryModel& model, MeshParams params, LogSink sink = {}, ProgressCallback progress = {});
   ~Mesher();
   /// Runs every stage. Throws Cancelled when cancelled, ParameterError for parameters that do not
-  /// fit the model (e.g. an edge number beyond the model); face failures are reported, not thrown.
+  /// fit the model (e.g. an edge number beyond the model, or a size at which the faces would hold
+  /// more than max_elements); face failures are reported, not thrown.
   MeshOutput run();
   /// Requests cancellation (thread-safe); run() throws Cancelled soon after.
   void cancel();
 
  private:
+  MeshOutput runUnbudgeted();
   struct Impl;
   std::unique_ptr<Impl> d_;
 };

@@ -53,6 +53,10 @@ struct MeshParams {
   /// triangles lie nearer another face). 0: no automatic check. Ignored when nearestFaceCheck.
   double nearestFaceBudget = 0.10;
   int optimizePasses = 4;     ///< passes of the 3D optimiser (swap + smooth + split/collapse)
+  /// The run stops with a ParameterError when the faces would hold more elements than this (about
+  /// 330 bytes each: 50 M is about 16 GB): a size far too small for the model is an error, not
+  /// hours of meshing until memory runs out.
+  long maxElements = 50000000;
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;
 

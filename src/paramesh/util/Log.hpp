@@ -57,10 +57,37 @@ class Progress {
   }
   void cancel() { cancelled_ = true; }
   bool isCancelled() const { return cancelled_.load(); }
+  /// Points the face meshers may insert from now on (0: no limit); over it, spend() cancels.
+  void setPointBudget(long points) {
+    budget_ = points;
+    spent_ = 0;
+  }
+  /// Counts n inserted points against the budget: over it, every poll() throws Cancelled and
+  /// overBudget() tells why (a size far too small for the model, or runaway refinement).
+  void spend(long n) const {
+    if (budget_ > 0 && spent_.fetch_add(n, std::memory_order_relaxed) + n > budget_) {
+      overBudget_ = true;
+      cancelled_ = true;
+      throw Cancelled();
+    }
+  }
+  /// Cancels (as spend() does) when n more points would already exceed the budget: a face whose
+  /// boundary encloses far more area than the budget can fill fails before it is meshed.
+  void require(long n) const {
+    if (budget_ > 0 && spent_.load(std::memory_order_relaxed) + n > budget_) {
+      overBudget_ = true;
+      cancelled_ = true;
+      throw Cancelled();
+    }
+  }
+  bool overBudget() const { return overBudget_.load(); }
 
  private:
   ProgressCallback cb_;
-  std::atomic<bool> cancelled_{false};
+  mutable std::atomic<bool> cancelled_{false};
+  long budget_ = 0;
+  mutable std::atomic<long> spent_{0};
+  mutable std::atomic<bool> overBudget_{false};
   std::mutex mu_;
 };
 
