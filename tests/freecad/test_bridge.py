@@ -163,3 +163,25 @@ def test_femmesh_has_one_group_per_boundary_layer_spec():
     on_edge = set(seg.ravel().tolist())
     touching = [q for q in r.quads[r.quad_layer == 1] if len(on_edge.intersection(q.tolist())) == 2]
     assert len(touching) == 2 * len(seg)
+
+
+def test_max_elements_property_stops_a_runaway_mesh():
+    """MaxElements (default 5e7) bounds the run: over it the object fails with the reason in its
+    Report instead of filling the memory; within it the mesh is made."""
+    from freecad.paramesh.app.factories import make_surface_mesh
+    doc = FreeCAD.newDocument("budget")
+    try:
+        part = doc.addObject("Part::Feature", "Screw")
+        part.Shape = Part.read(os.path.join(DATA, "screw.step"))
+        obj = make_surface_mesh(doc, part)
+        assert obj.MaxElements == 50000000
+        obj.Size = 1.0
+        obj.MaxElements = 2000  # the screw at size 1 has about 4 400 triangles
+        doc.recompute()
+        assert obj.Status == "failed", obj.Status
+        assert "max_elements = 2000 " in json.loads(obj.Report)["message"]
+        obj.MaxElements = 100000
+        doc.recompute()
+        assert obj.Status == "ok" and 2000 < obj.FemMesh.FaceCount < 100000
+    finally:
+        FreeCAD.closeDocument(doc.Name)

@@ -41,6 +41,7 @@ class SurfaceMesh(BaseProxy):
         add_property(obj, "App::PropertyFloat", "NearestFaceBudget", GROUP, _tip("nearest_face_budget"), 0.10)
         add_property(obj, "App::PropertyInteger", "Threads", GROUP, _tip("threads"), 0)
         add_property(obj, "App::PropertyInteger", "OptimizePasses", GROUP, _tip("optimize_passes"), 4)
+        add_property(obj, "App::PropertyInteger", "MaxElements", GROUP, _tip("max_elements"), 50000000)
         add_property(obj, "App::PropertyLinkList", "BoundaryLayerList", GROUP,
                      "ParaMesh boundary-layer objects applied to this mesh")
         add_property(obj, "App::PropertyLinkList", "LocalSizeList", GROUP,
@@ -64,7 +65,8 @@ class SurfaceMesh(BaseProxy):
                        optimize_passes=int(obj.OptimizePasses),
                        proximity=int(getattr(obj, "Proximity", 0)),
                        nearest_face_check=bool(getattr(obj, "NearestFaceCheck", False)),
-                       nearest_face_budget=float(getattr(obj, "NearestFaceBudget", 0.10)))
+                       nearest_face_budget=float(getattr(obj, "NearestFaceBudget", 0.10)),
+                       max_elements=int(getattr(obj, "MaxElements", 50000000)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
