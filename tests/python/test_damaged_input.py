@@ -144,3 +144,24 @@ def test_size_far_too_small_fails_at_once(tmp_path):
         pm.mesh_file(os.path.join(DATA, "screw.step"), max_elements=5)
     rc, err = run_cli("mesh", os.path.join(DATA, "screw.step"), "-o", str(tmp_path / "o.msh"), "--max-elements", "5")
     assert rc == 1 and "--max-elements" in err
+
+
+@needs_cli
+def test_damaged_bspline_edge_gets_a_sane_discretisation(tmp_path):
+    # propeller_and_shaft.iges with one pole coordinate of entity 489 changed (33.95781661 -> 7,
+    # a fuzz case): Edge78's derivative flips between samples, 748 000 rad of "turning" on 108 mm,
+    # and the turning rule asked for 714 480 segments (the run did not end in 200 s)
+    src = os.path.join(ROOT, "..", "shared", "models", "propeller_and_shaft.iges")
+    if not os.path.exists(src):
+        pytest.skip("needs ../shared/models")
+    text = open(src, "rb").read()
+    old = b"81.203707082,17.882301213,33.95781661,81.057117637,17.636071459,"
+    assert text.count(old) == 1
+    bad = damaged(tmp_path, "bad.iges", text.replace(old, old.replace(b"33.95781661", b"7")))
+    t = time.monotonic()
+    p = subprocess.run([CLI, "mesh", bad, "-o", str(tmp_path / "o.msh")], capture_output=True, text=True, timeout=120)
+    assert time.monotonic() - t < 30
+    assert p.returncode in (0, 3), p.stderr
+    line = next(l for l in p.stderr.splitlines() if l.startswith("edges discretised"))
+    assert int(line.split("(")[-1].rstrip(")")) < 1000, line
+    assert "damaged entities" in p.stderr

@@ -1733,8 +1733,18 @@ MeshOutput Mesher::runUnbudgeted() {
       d.discretizeEdges();
       d.stage("edges", te.seconds());
     }
-    d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +
-               std::to_string(d.field.numSources()) + " size sources");
+    {
+      size_t most = 0;
+      int mostEdge = -1;
+      for (size_t e = 0; e < d.edges.size(); ++e)
+        if (d.edges[e].nodes.size() > most + 1) {
+          most = d.edges[e].nodes.size() - 1;
+          mostEdge = (int)e;
+        }
+      d.log.info("edges discretised: " + std::to_string(d.mesh.segments.size()) + " segments, " +
+                 std::to_string(d.field.numSources()) + " size sources" +
+                 (mostEdge >= 0 ? ", most on Edge" + std::to_string(mostEdge + 1) + " (" + std::to_string(most) + ")" : ""));
+    }
     d.progress.report(0.15, "faces");
     d.progress.setPointBudget(d.p.maxElements / 2);  // a triangle mesh has about half as many points
     d.meshFaces();
