@@ -237,6 +237,10 @@ int cmdMesh(int argc, char** argv) {
     die(2, e.what());
   } catch (const Error& e) {
     die(4, e.what());
+  } catch (const std::exception& e) {
+    die(4, std::string("internal error: ") + e.what());
+  } catch (...) {  // an exception of the geometry kernel that its backend did not translate
+    die(4, "internal error: an unexpected exception of the geometry kernel");
   }
   try {
     for (const auto& o : outs) writeMesh(o, out.mesh);

@@ -165,3 +165,20 @@ def test_damaged_bspline_edge_gets_a_sane_discretisation(tmp_path):
     line = next(l for l in p.stderr.splitlines() if l.startswith("edges discretised"))
     assert int(line.split("(")[-1].rstrip(")")) < 1000, line
     assert "damaged entities" in p.stderr
+
+
+@needs_cli
+def test_kernel_exception_on_a_damaged_edge_is_an_error(tmp_path):
+    # small-edges-01.brep with the parameter range of Edge208's curve representation changed
+    # (1.80174462786821 -> -163.238...): BRepAdaptor_Curve threw Standard_ConstructionError, which
+    # no handler caught (std::terminate, exit 134); the backend now names the edge
+    lines = read("small-edges-01.brep").split(b"\n")
+    old = b"1  208 0 1.76241427046867 1.80174462786821"
+    k = [i for i, l in enumerate(lines) if l.strip() == old]
+    assert len(k) == 1
+    lines[k[0]] = b"1  208 0 1.76241427046867 -163.23821840844244"
+    bad = damaged(tmp_path, "bad.brep", b"\n".join(lines))
+    rc, err = run_cli("mesh", bad, "-o", str(tmp_path / "o.msh"), "--quiet")
+    assert rc == 2 and len(err.splitlines()) == 1 and "Edge208" in err, (rc, err)
+    with pytest.raises(pm.InputError, match="Edge208"):
+        pm.mesh_file(bad)

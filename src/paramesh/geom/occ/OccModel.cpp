@@ -259,24 +259,42 @@ class OccModel final : public IGeometryModel {
     return vertices_.FindIndex(V) - 1;
   }
   bool edgeDegenerate(int e) const override { return BRep_Tool::Degenerated(edge(e)); }
+  // OpenCASCADE's adaptors throw Standard_Failure on damaged geometry (BRepAdaptor_Curve:
+  // Standard_ConstructionError on a fuzzed small-edges-01.brep edge, which ended the CLI in
+  // std::terminate): the backend turns it into an InputError naming the entity
   std::unique_ptr<ICurve> makeCurve(int e) const override {
-    if (edgeDegenerate(e)) return nullptr;
-    return std::make_unique<OccCurve>(edge(e));
+    try {
+      if (edgeDegenerate(e)) return nullptr;
+      return std::make_unique<OccCurve>(edge(e));
+    } catch (const Standard_Failure& x) {
+      throw InputError("Edge" + std::to_string(e + 1) + ": OpenCASCADE cannot evaluate its curve (" +
+                       x.DynamicType()->Name() + ": " + x.GetMessageString() + ")");
+    }
   }
   double edgeTolerance(int e) const override { return BRep_Tool::Tolerance(edge(e)); }
   const std::vector<int>& edgeFaces(int e) const override { return edgeFaces_[e]; }
 
   std::unique_ptr<ISurface> makeSurface(int f) const override {
-    return std::make_unique<OccSurface>(faceData_[f].face);
+    try {
+      return std::make_unique<OccSurface>(faceData_[f].face);
+    } catch (const Standard_Failure& x) {
+      throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot evaluate its surface (" +
+                       x.DynamicType()->Name() + ": " + x.GetMessageString() + ")");
+    }
   }
   bool faceReversed(int f) const override { return faceData_[f].face.Orientation() == TopAbs_REVERSED; }
   const std::vector<Wire>& faceWires(int f) const override { return faceData_[f].wires; }
   std::unique_ptr<IPCurve> makePCurve(int f, int wire, int use) const override {
-    const FaceData& fd = faceData_[f];
-    double a, b;
-    Handle(Geom2d_Curve) c = BRep_Tool::CurveOnSurface(fd.oriented[wire][use], fd.face, a, b);
-    if (c.IsNull()) return nullptr;
-    return std::make_unique<OccPCurve>(c);
+    try {
+      const FaceData& fd = faceData_[f];
+      double a, b;
+      Handle(Geom2d_Curve) c = BRep_Tool::CurveOnSurface(fd.oriented[wire][use], fd.face, a, b);
+      if (c.IsNull()) return nullptr;
+      return std::make_unique<OccPCurve>(c);
+    } catch (const Standard_Failure& x) {
+      throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot read a p-curve of its wire " +
+                       std::to_string(wire + 1) + " (" + x.DynamicType()->Name() + ": " + x.GetMessageString() + ")");
+    }
   }
   double faceTolerance(int f) const override { return BRep_Tool::Tolerance(faceData_[f].face); }
   int faceSolid(int f) const override { return faceData_[f].solid; }
