@@ -142,10 +142,11 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--threads") p.threads = parseInt(a, next());
     else if (a == "--optimize") p.optimizePasses = parseInt(a, next());
     else if (a == "--max-elements") {
-      const char* v = next();
-      const double m = parseNumber(a, v);
-      if (!(m >= 1000 && m <= 1e10)) die(1, std::string("--max-elements must be in [1000, 1e10], got ") + v);
-      p.maxElements = (long)m;
+      try {
+        p.maxElements = checkedMaxElements(parseNumber(a, next()));
+      } catch (const Error& e) {
+        die(1, std::string("--max-elements: ") + e.what());
+      }
     }
     else if (a == "--order") p.order = parseInt(a, next());
     else if (a == "--bl-edges") {

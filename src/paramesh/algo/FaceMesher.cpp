@@ -71,7 +71,7 @@ class Frontal {
       // polled per attempt, not per insertion: on a damaged face most attempts can be rejected
       if ((++attempts & 1023) == 0 && progress_) {
         progress_->poll();
-        progress_->spend(std::max<long>(0, inserted - spent));
+        progress_->spend(inserted - spent);
         spent = inserted;
       }
       if (inserted > opt_.maxPoints) break;

@@ -41,8 +41,7 @@ void MeshParams::validate() const {
     throw ParameterError("nearest_face_budget must be in [0, 10] (a fraction of the triangles; got " +
                          num(nearestFaceBudget) + ")");
   if (order != 1 && order != 2) throw ParameterError("order must be 1 or 2 (got " + std::to_string(order) + ")");
-  if (maxElements < 1000 || maxElements > 10000000000L)
-    throw ParameterError("max_elements must be in [1000, 1e10] (got " + std::to_string(maxElements) + ")");
+  checkedMaxElements((double)maxElements);
   if (optimizePasses < 0 || optimizePasses > 100)
     throw ParameterError("optimize_passes must be in [0, 100] (got " + std::to_string(optimizePasses) + ")");
   for (size_t i = 0; i < localSizes.size(); ++i) {
@@ -76,6 +75,11 @@ void MeshParams::validate() const {
     }
     if (!finite(b.maxAspect) || b.maxAspect < 0) throw ParameterError(id + ": max_aspect must be >= 0");
   }
+}
+
+long checkedMaxElements(double v) {
+  if (!(v >= 1000 && v <= 1e10)) throw ParameterError("max_elements must be in [1000, 1e10] (got " + num(v) + ")");
+  return (long)v;
 }
 
 }  // namespace paramesh

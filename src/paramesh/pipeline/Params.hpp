@@ -64,4 +64,8 @@ struct MeshParams {
   void validate() const;
 };
 
+/// max_elements from a number read as a double (CLI, parameters JSON): range-checked before the
+/// conversion to an integer; throws ParameterError outside [1000, 1e10].
+long checkedMaxElements(double v);
+
 }  // namespace paramesh

@@ -113,11 +113,7 @@ void applyParamsJson(const std::string& text, MeshParams& p) {
     else if (k == "order") p.order = integer(v, k);
     else if (k == "quads") p.quads = boolean(v, k);
     else if (k == "optimize_passes") p.optimizePasses = integer(v, k);
-    else if (k == "max_elements") {
-      const double m = num(v, k);
-      if (!(m >= 1000 && m <= 1e10)) throw ParameterError("max_elements must be in [1000, 1e10] (got " + std::to_string(m) + ")");
-      p.maxElements = (long)m;
-    }
+    else if (k == "max_elements") p.maxElements = checkedMaxElements(num(v, k));
     else if (k == "proximity") p.proximity = integer(v, k);
     else if (k == "nearest_face_check") p.nearestFaceCheck = boolean(v, k);
     else if (k == "nearest_face_budget") p.nearestFaceBudget = num(v, k);

@@ -65,24 +65,21 @@ class Progress {
   /// Counts n inserted points against the budget: over it, every poll() throws Cancelled and
   /// overBudget() tells why (a size far too small for the model, or runaway refinement).
   void spend(long n) const {
-    if (budget_ > 0 && spent_.fetch_add(n, std::memory_order_relaxed) + n > budget_) {
-      overBudget_ = true;
-      cancelled_ = true;
-      throw Cancelled();
-    }
+    if (budget_ > 0 && spent_.fetch_add(n, std::memory_order_relaxed) + n > budget_) stopOverBudget();
   }
   /// Cancels (as spend() does) when n more points would already exceed the budget: a face whose
   /// boundary encloses far more area than the budget can fill fails before it is meshed.
   void require(long n) const {
-    if (budget_ > 0 && spent_.load(std::memory_order_relaxed) + n > budget_) {
-      overBudget_ = true;
-      cancelled_ = true;
-      throw Cancelled();
-    }
+    if (budget_ > 0 && spent_.load(std::memory_order_relaxed) + n > budget_) stopOverBudget();
   }
   bool overBudget() const { return overBudget_.load(); }
 
  private:
+  [[noreturn]] void stopOverBudget() const {
+    overBudget_ = true;
+    cancelled_ = true;
+    throw Cancelled();
+  }
   ProgressCallback cb_;
   mutable std::atomic<bool> cancelled_{false};
   long budget_ = 0;

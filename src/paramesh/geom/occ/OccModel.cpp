@@ -174,7 +174,9 @@ struct FaceData {
 
 class OccModel final : public IGeometryModel {
  public:
-  OccModel(const TopoDS_Shape& shape, std::string source) : shape_(shape), source_(std::move(source)) {
+  /// warnings: what the reader noticed (readWarnings()).
+  OccModel(const TopoDS_Shape& shape, std::string source, std::vector<std::string> warnings = {})
+      : shape_(shape), source_(std::move(source)), readWarnings_(std::move(warnings)) {
     TopExp::MapShapes(shape_, TopAbs_FACE, faces_);
     TopExp::MapShapes(shape_, TopAbs_EDGE, edges_);
     TopExp::MapShapes(shape_, TopAbs_VERTEX, vertices_);
@@ -267,8 +269,7 @@ class OccModel final : public IGeometryModel {
       if (edgeDegenerate(e)) return nullptr;
       return std::make_unique<OccCurve>(edge(e));
     } catch (const Standard_Failure& x) {
-      throw InputError("Edge" + std::to_string(e + 1) + ": OpenCASCADE cannot evaluate its curve (" +
-                       x.DynamicType()->Name() + ": " + x.GetMessageString() + ")");
+      throw InputError("Edge" + std::to_string(e + 1) + ": OpenCASCADE cannot evaluate its curve (" + describe(x) + ")");
     }
   }
   double edgeTolerance(int e) const override { return BRep_Tool::Tolerance(edge(e)); }
@@ -278,8 +279,7 @@ class OccModel final : public IGeometryModel {
     try {
       return std::make_unique<OccSurface>(faceData_[f].face);
     } catch (const Standard_Failure& x) {
-      throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot evaluate its surface (" +
-                       x.DynamicType()->Name() + ": " + x.GetMessageString() + ")");
+      throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot evaluate its surface (" + describe(x) + ")");
     }
   }
   bool faceReversed(int f) const override { return faceData_[f].face.Orientation() == TopAbs_REVERSED; }
@@ -293,7 +293,7 @@ class OccModel final : public IGeometryModel {
       return std::make_unique<OccPCurve>(c);
     } catch (const Standard_Failure& x) {
       throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot read a p-curve of its wire " +
-                       std::to_string(wire + 1) + " (" + x.DynamicType()->Name() + ": " + x.GetMessageString() + ")");
+                       std::to_string(wire + 1) + " (" + describe(x) + ")");
     }
   }
   double faceTolerance(int f) const override { return BRep_Tool::Tolerance(faceData_[f].face); }
@@ -301,13 +301,17 @@ class OccModel final : public IGeometryModel {
   Box3 boundingBox() const override { return box_; }
   std::string source() const override { return source_; }
   std::vector<std::string> readWarnings() const override { return readWarnings_; }
-  std::vector<std::string> readWarnings_;
 
  private:
+  /// An OpenCASCADE exception as "Type: message", for the InputErrors the factories throw.
+  static std::string describe(const Standard_Failure& x) {
+    return std::string(x.DynamicType()->Name()) + ": " + x.GetMessageString();
+  }
   TopoDS_Edge edge(int e) const { return TopoDS::Edge(edges_(e + 1).Oriented(TopAbs_FORWARD)); }
 
   TopoDS_Shape shape_;
   std::string source_;
+  std::vector<std::string> readWarnings_;
   TopTools_IndexedMapOfShape faces_, edges_, vertices_, solids_;
   std::vector<FaceData> faceData_;
   std::vector<std::vector<int>> edgeFaces_;
@@ -533,9 +537,7 @@ std::unique_ptr<IGeometryModel> loadOccModel(const std::string& path) {
   TopoDS_Shape s = readShape(path, warnings);
   try {
     OCC_CATCH_SIGNALS
-    auto m = std::make_unique<OccModel>(s, path);
-    m->readWarnings_ = std::move(warnings);
-    return m;
+    return std::make_unique<OccModel>(s, path, std::move(warnings));
   } catch (const Standard_Failure& e) {
     throw InputError("OpenCASCADE failed on '" + path + "': " + e.GetMessageString());
   }
