@@ -136,8 +136,10 @@ PYBIND11_MODULE(_native, mod) {
   mod.doc() = "ParaMesh native core (C++). Use freecad.paramesh, not this module directly.";
 
   static py::exception<Error> exBase(mod, "ParaMeshError", PyExc_RuntimeError);
-  static py::exception<ParameterError> exParam(mod, "ParameterError", PyExc_ValueError);
-  static py::exception<InputError> exInput(mod, "InputError", PyExc_ValueError);
+  // both a ParaMeshError (catch everything of ours) and a ValueError (the caller's input is wrong)
+  static py::exception<ParameterError> exParam(mod, "ParameterError",
+                                               py::make_tuple(exBase, py::handle(PyExc_ValueError)));
+  static py::exception<InputError> exInput(mod, "InputError", py::make_tuple(exBase, py::handle(PyExc_ValueError)));
   static py::exception<Cancelled> exCancel(mod, "Cancelled", exBase.ptr());
   py::register_exception_translator([](std::exception_ptr p) {
     try {

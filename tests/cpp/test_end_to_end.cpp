@@ -5,6 +5,7 @@
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -14,6 +15,7 @@
 #include <gp_Pln.hxx>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <sstream>
 
@@ -286,6 +288,70 @@ TEST(Errors, BadParametersNameTheParameter) {
   } catch (const ParameterError& e) {
     EXPECT_NE(std::string(e.what()).find("Face7"), std::string::npos) << e.what();
   }
+}
+
+/// A model whose one edge cannot be evaluated (as OpenCASCADE fails on a damaged curve).
+class BrokenEdgeModel : public IGeometryModel {
+ public:
+  BrokenEdgeModel(const IGeometryModel& m, int broken) : m_(m), broken_(broken) {}
+  int numFaces() const override { return m_.numFaces(); }
+  int numEdges() const override { return m_.numEdges(); }
+  int numVertices() const override { return m_.numVertices(); }
+  int numSolids() const override { return m_.numSolids(); }
+  Vec3 vertexPoint(int v) const override { return m_.vertexPoint(v); }
+  double vertexTolerance(int v) const override { return m_.vertexTolerance(v); }
+  void edgeRange(int e, double& t0, double& t1) const override { m_.edgeRange(e, t0, t1); }
+  int edgeVertex(int e, int end) const override { return m_.edgeVertex(e, end); }
+  bool edgeDegenerate(int e) const override { return m_.edgeDegenerate(e); }
+  std::unique_ptr<ICurve> makeCurve(int e) const override {
+    if (e == broken_) throw InputError("Edge" + std::to_string(e + 1) + ": the kernel cannot evaluate its curve");
+    return m_.makeCurve(e);
+  }
+  double edgeTolerance(int e) const override { return m_.edgeTolerance(e); }
+  const std::vector<int>& edgeFaces(int e) const override { return m_.edgeFaces(e); }
+  std::unique_ptr<ISurface> makeSurface(int f) const override { return m_.makeSurface(f); }
+  bool faceReversed(int f) const override { return m_.faceReversed(f); }
+  const std::vector<Wire>& faceWires(int f) const override { return m_.faceWires(f); }
+  std::unique_ptr<IPCurve> makePCurve(int f, int w, int u) const override { return m_.makePCurve(f, w, u); }
+  double faceTolerance(int f) const override { return m_.faceTolerance(f); }
+  int faceSolid(int f) const override { return m_.faceSolid(f); }
+  Box3 boundingBox() const override { return m_.boundingBox(); }
+  std::string source() const override { return m_.source(); }
+
+ private:
+  const IGeometryModel& m_;
+  int broken_;
+};
+
+TEST(Errors, AnEdgeThatCannotBeEvaluatedFailsOnlyItsFaces) {
+  auto box = loadOccModelFromBrepString(toBrep(BRepPrimAPI_MakeBox(10.0, 10.0, 10.0).Shape()));
+  const int broken = 4;  // Edge5
+  BrokenEdgeModel g(*box, broken);
+  MeshParams p;
+  p.size = 1.0;
+  MeshOutput out = Mesher(g, p).run();
+  const std::vector<int>& around = box->edgeFaces(broken);
+  ASSERT_EQ(around.size(), 2u);
+  EXPECT_EQ(out.report.status, RunStatus::Degraded);
+  for (const FaceReport& fr : out.report.faces) {
+    const bool adjacent = std::find(around.begin(), around.end(), fr.face - 1) != around.end();
+    EXPECT_EQ(fr.ok, !adjacent) << "Face" << fr.face << ": " << fr.error;
+    if (adjacent) {
+      EXPECT_NE(fr.error.find("Edge5 could not be discretised"), std::string::npos) << fr.error;
+      EXPECT_EQ(fr.error.find("Edge5: "), std::string::npos) << fr.error;  // named once
+    } else {
+      EXPECT_GT(fr.triangles, 50) << "Face" << fr.face;
+    }
+  }
+  // the four other faces are complete: every triangle node is used, nothing lies on the broken edge
+  std::vector<char> used(out.mesh.nodes.size(), 0);
+  for (const auto& t : out.mesh.triangles)
+    for (int k = 0; k < 3; ++k) used[t[k]] = 1;
+  int unused = 0;
+  for (size_t i = 0; i < used.size(); ++i) unused += !used[i];
+  EXPECT_EQ(unused, 0);
+  for (size_t i = 0; i < out.mesh.nodes.size(); ++i)
+    EXPECT_FALSE(out.mesh.nodeKind[i] == NodeKind::Edge && out.mesh.nodeEntity[i] == broken + 1);
 }
 
 TEST(Errors, CancelStopsTheRun) {

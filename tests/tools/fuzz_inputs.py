@@ -4,6 +4,12 @@
 
 usage: fuzz_inputs.py PARAMESH MODEL [MODEL...] [--cases N] [--seed S] [--timeout SEC] [--out DIR]
                       [--args "--size 5 ..."]
+       fuzz_inputs.py python MODEL [MODEL...] ...
+
+With `python` in place of the CLI, each case goes through the Python API instead
+(`freecad.paramesh.mesh_file` in a /usr/bin/python3 process of its own, which, unlike the CLI,
+has no signal handler to turn a reader crash into an error): a ParaMeshError is a one-line
+reason (exit 2), a result is written as MSH (exit 0), anything else is a failure.
 
 Each case is a copy of a model with one mutation: truncated at a random byte, a random line
 deleted or duplicated, two lines swapped, a random number replaced (by another, 0, a huge
@@ -84,6 +90,19 @@ def check_mesh(path):
     return ''
 
 
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PY_DRIVER = """
+import sys
+import freecad.paramesh as pm
+try:
+    r = pm.mesh_file(sys.argv[1])
+except pm.ParaMeshError as e:
+    sys.stderr.write(str(e).replace(chr(10), ' ') + chr(10))
+    sys.exit(2)
+r.write(sys.argv[2])
+"""
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('paramesh')
@@ -109,7 +128,11 @@ def main():
         out = os.path.join(work, 'out.msh')
         if os.path.exists(out):
             os.remove(out)
-        cmd = [a.paramesh, 'mesh', case, '-o', out, '--quiet'] + a.args.split()
+        if a.paramesh == 'python':
+            cmd = ['/usr/bin/python3', '-c', PY_DRIVER, case, out]
+            env['PYTHONPATH'] = ROOT
+        else:
+            cmd = [a.paramesh, 'mesh', case, '-o', out, '--quiet'] + a.args.split()
         try:
             p = subprocess.run(cmd, capture_output=True, timeout=a.timeout, env=env)
             rc, err = p.returncode, p.stderr.decode(errors='replace')

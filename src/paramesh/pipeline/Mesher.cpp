@@ -117,6 +117,7 @@ struct Mesher::Impl {
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
+  std::vector<std::string> edgeError_;         ///< per edge: why it could not be discretised ("" if it was)
   /// The previous meshing round of the nearest-face check: a face whose edges kept their nodes
   /// and that no new size source reaches keeps its mesh (the size field there is unchanged, and
   /// meshing a face is deterministic: re-meshing it would give the same elements).
@@ -332,12 +333,35 @@ struct Mesher::Impl {
   }
 
   // ---------------------------------------------------------------- edges
+  /// Why work on one edge failed ("" when it did not): the message of what it threw, or the
+  /// kernel's failure; a cancel goes through.
+  static std::string edgeFailure(const std::function<void()>& work) {
+    try {
+      work();
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& x) {
+      return x.what();
+    } catch (...) {
+      return "the geometry kernel failed while evaluating its curve";
+    }
+    return "";
+  }
+
   void discretizeEdges() {
     const int ne = model.numEdges();
     std::vector<std::vector<double>> ts(ne);
     std::vector<char> degen(ne, 0);
+    edgeError_.assign(ne, std::string());
+    // an edge the geometry kernel cannot evaluate (a damaged curve) fails alone: it gets no nodes,
+    // the faces bounded by it fail naming it, the others are meshed
+    auto discretizeOne = [&](int e, const std::function<void()>& body) {
+      if (!edgeError_[e].empty()) return;
+      edgeError_[e] = edgeFailure(body);
+      if (!edgeError_[e].empty()) ts[e].clear();
+    };
     auto discretizeAll = [&]() {
-    parallelFor(ne, threads, [&](int e) {
+    parallelFor(ne, threads, [&](int e) { discretizeOne(e, [&] {
       progress.poll();
       double t0, t1;
       model.edgeRange(e, t0, t1);
@@ -369,7 +393,7 @@ struct Mesher::Impl {
       const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
       const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
       ts[e] = discretizeCurve(cs, f, closed ? 3 : 1, kPi / 3.0);
-    });
+    }); });
     };
     discretizeAll();
     // CAD edges much shorter than the size field, in chains (a finely detailed boundary) or split
@@ -382,8 +406,11 @@ struct Mesher::Impl {
       std::vector<std::vector<Vec3>> pts(ne);
       parallelFor(ne, threads, [&](int e) {
         if (degen[e] || same.edgeRep[e] != e || ts[e].size() < 2) return;
-        auto c = model.makeCurve(e);
-        for (double t : ts[e]) pts[e].push_back(c->eval(t));
+        discretizeOne(e, [&] {
+          auto c = model.makeCurve(e);
+          for (double t : ts[e]) pts[e].push_back(c->eval(t));
+        });
+        if (!edgeError_[e].empty()) pts[e].clear();
       });
       std::vector<std::vector<std::pair<int, int>>> atVertex(model.numVertices());  // (edge, end)
       for (int e = 0; e < ne; ++e) {
@@ -491,7 +518,7 @@ struct Mesher::Impl {
         const double L = polyLength(e);
         const double hf = field.size(pts[e][pts[e].size() / 2]);
         if (!(L > hf) || L > kStripEndMax * hf || !closesStrip(e, L)) return;
-        ts[e] = discretizeWith(e, [this](Vec3 x) { return kRowHeight * field.size(x); });
+        discretizeOne(e, [&] { ts[e] = discretizeWith(e, [this](Vec3 x) { return kRowHeight * field.size(x); }); });
       });
     }
     splitParallelChords(ts, degen);
@@ -568,10 +595,6 @@ struct Mesher::Impl {
       reach.hi[i] += diag;
     }
     auto edgeNode = [&](Vec3 p, int e, double t) {
-      for (int i = 0; i < 3; ++i)
-        if (!(p[i] >= reach.lo[i] && p[i] <= reach.hi[i]))
-          throw InputError("Edge" + std::to_string(e + 1) + ": its curve passes through (" + fmt(p.x) + ", " + fmt(p.y) +
-                           ", " + fmt(p.z) + "), far outside the model's bounding box: its geometry is damaged");
       for (int di = -1; di <= 1; ++di)
         for (int dj = -1; dj <= 1; ++dj)
           for (int dk = -1; dk <= 1; ++dk) {
@@ -590,8 +613,28 @@ struct Mesher::Impl {
       em.t = ts[e];
       em.degenerate = degen[e];
       const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
-      std::unique_ptr<ICurve> c = em.degenerate ? nullptr : model.makeCurve(e);
       const size_t n = em.t.size();
+      // the points first: an edge that cannot be evaluated, or whose curve leaves the model's box
+      // by more than its diagonal (damaged: a B-spline pole at 1e300 in a fuzzed occBSplCone.brep;
+      // its nodes all fell into one hash cell, a quadratic hang), fails alone and adds no node
+      std::vector<Vec3> xyz(n);
+      if (!em.degenerate && n > 0) {
+        edgeError_[e] = edgeFailure([&] {
+          std::unique_ptr<ICurve> c = model.makeCurve(e);
+          for (size_t i = 0; i < n; ++i) {
+            const Vec3 q = c->eval(em.t[i]);
+            for (int k = 0; k < 3; ++k)
+              if (!(q[k] >= reach.lo[k] && q[k] <= reach.hi[k]))
+                throw InputError("its curve passes through (" + fmt(q.x) + ", " + fmt(q.y) + ", " + fmt(q.z) +
+                                 "), far outside the model's bounding box: its geometry is damaged");
+            xyz[i] = q;
+          }
+        });
+        if (!edgeError_[e].empty()) {
+          em.t.clear();
+          continue;
+        }
+      }
       em.nodes.resize(n);
       for (size_t i = 0; i < n; ++i) {
         if (i == 0 && v0 >= 0) {
@@ -601,7 +644,7 @@ struct Mesher::Impl {
         } else if (em.degenerate) {
           em.nodes[i] = v0 >= 0 ? vertexNode[v0] : (v1 >= 0 ? vertexNode[v1] : -1);
         } else {
-          em.nodes[i] = edgeNode(c->eval(em.t[i]), e, em.t[i]);
+          em.nodes[i] = edgeNode(xyz[i], e, em.t[i]);
         }
       }
       if (!em.degenerate)
@@ -622,17 +665,27 @@ struct Mesher::Impl {
       if (r == e) continue;
       const EdgeMesh& rm = edges[r];
       EdgeMesh& em = edges[e];
-      auto c = model.makeCurve(e);
-      double t0, t1;
-      model.edgeRange(e, t0, t1);
+      if (!edgeError_[r].empty()) {
+        edgeError_[e] = "it coincides with Edge" + std::to_string(r + 1) + ", which failed: " + edgeError_[r];
+        continue;
+      }
       const size_t n = rm.nodes.size();
-      em.nodes.resize(n);
-      em.t.resize(n);
-      for (size_t i = 0; i < n; ++i) {
-        const size_t j = same.edgeReversed[e] ? n - 1 - i : i;
-        em.nodes[i] = rm.nodes[j];
-        const double seed = t0 + (t1 - t0) * (double)i / (double)(n - 1);
-        em.t[i] = i == 0 ? t0 : (i + 1 == n ? t1 : c->project(mesh.nodes[em.nodes[i]], seed, t0, t1));
+      edgeError_[e] = edgeFailure([&] {
+        auto c = model.makeCurve(e);
+        double t0, t1;
+        model.edgeRange(e, t0, t1);
+        em.nodes.resize(n);
+        em.t.resize(n);
+        for (size_t i = 0; i < n; ++i) {
+          const size_t j = same.edgeReversed[e] ? n - 1 - i : i;
+          em.nodes[i] = rm.nodes[j];
+          const double seed = t0 + (t1 - t0) * (double)i / (double)(n - 1);
+          em.t[i] = i == 0 ? t0 : (i + 1 == n ? t1 : c->project(mesh.nodes[em.nodes[i]], seed, t0, t1));
+        }
+      });
+      if (!edgeError_[e].empty()) {
+        em.nodes.clear();
+        em.t.clear();
       }
     }
   }
@@ -1350,6 +1403,15 @@ struct Mesher::Impl {
   std::mutex blMu_;
 
   // ---------------------------------------------------------------- faces
+  /// The first edge of face f that could not be discretised, or -1.
+  int failedEdgeOf(int f) const {
+    if (edgeError_.empty()) return -1;
+    for (const Wire& w : model.faceWires(f))
+      for (const EdgeUse& u : w.uses)
+        if (!edgeError_[u.edge].empty()) return u.edge;
+    return -1;
+  }
+
   void meshFaces() {
     Timer tm;
     const int nf = model.numFaces();
@@ -1385,7 +1447,13 @@ struct Mesher::Impl {
         fr.surface = toString(s->kind());
         FaceBoundary fb;
         std::string why;
-        if (!buildBoundary(f, *s, fb, why)) {
+        const int bad = failedEdgeOf(f);
+        if (bad >= 0) {
+          fr.ok = false;
+          const std::string name = "Edge" + std::to_string(bad + 1), &why = edgeError_[bad];
+          fr.error = "its " + name + " could not be discretised: " +
+                     (why.rfind(name + ": ", 0) == 0 ? why.substr(name.size() + 2) : why);
+        } else if (!buildBoundary(f, *s, fb, why)) {
           fr.ok = false;
           fr.error = why;
         } else if (hasBoundaryLayer(f)) {

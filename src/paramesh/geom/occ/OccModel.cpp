@@ -16,6 +16,8 @@
 #include <IGESControl_Reader.hxx>
 #include <Interface_Check.hxx>
 #include <Interface_CheckIterator.hxx>
+#include <Interface_InterfaceModel.hxx>
+#include <TCollection_HAsciiString.hxx>
 #include <XSControl_WorkSession.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
@@ -431,31 +433,76 @@ TopoDS_Shape readBrepText(const std::string& text, const std::string& what) {
   return shape;
 }
 
-/// Entities the STEP / IGES reader found damaged (a failed load check: an unresolved reference,
-/// an entity of the wrong type, a syntax error), with the first such message; entities whose only
-/// fault is a name that is not a quoted string (boxed_sphere.step has 295, all harmless) are not
-/// counted.
-int damagedEntities(XSControl_Reader& r, std::string& first) {
-  int n = 0;
+/// What the STEP / IGES reader's load check found damaged (a failed check: an unresolved
+/// reference, an entity of the wrong type, a syntax error). Entities whose only fault is a name
+/// that is not a quoted string (boxed_sphere.step has 295, all harmless) are not counted.
+struct Damage {
+  int count = 0;
+  std::string first;     // the first failure message
+  std::string geometry;  // the first damaged geometric entity, described; empty if none
+  std::string missing;   // the first entity referred to but not defined ("#932"), if any
+};
+
+/// A geometric entity (point, curve, surface, p-curve) missing a part it refers to is refused: OpenCASCADE
+/// 7.6's translators dereference its missing parts without a test (screw.step without one
+/// CARTESIAN_POINT of a p-curve: SIGSEGV in StepGeom_CartesianPoint::NbCoordinates, which only an
+/// application's signal handler turns into an error). Damaged topology or product data (a shell
+/// missing a face) is translated without it, with a warning.
+bool isGeometric(const Handle(Standard_Transient)& ent) {
+  if (ent.IsNull()) return false;
+  const std::string type = ent->DynamicType()->Name();
+  return type.rfind("StepGeom_", 0) == 0 || type.rfind("IGESGeom_", 0) == 0 || type.rfind("IGESSolid_", 0) == 0;
+}
+
+/// A failure that leaves a hole in the entity (a reference to an entity that is missing or of the
+/// wrong kind), not a value written sloppily (an integer where a real belongs, which the reader
+/// still takes: such files are translated, with a warning).
+bool refersToMissing(const std::string& msg) {
+  return msg.find("illegal type") != std::string::npos || msg.find("Unresolved") != std::string::npos ||
+         msg.find("Null") != std::string::npos || msg.find("null") != std::string::npos;
+}
+
+Damage damagedEntities(XSControl_Reader& r) {
+  Damage d;
+  const Handle(Interface_InterfaceModel) model = r.WS()->Model();
   Interface_CheckIterator chk = r.WS()->ModelCheckList();
   for (chk.Start(); chk.More(); chk.Next()) {
     const Handle(Interface_Check)& c = chk.Value();
-    bool real = false;
-    for (int i = 1; i <= c->NbFails() && !real; ++i) {
-      const std::string msg = c->CFail(i);
-      if (msg.find("quoted String") == std::string::npos) {
-        real = true;
-        if (first.empty()) first = msg;
+    std::string msg;
+    for (int i = 1; i <= c->NbFails() && msg.empty(); ++i) {
+      const std::string m = c->CFail(i);
+      if (m.find("quoted String") == std::string::npos) msg = m;
+    }
+    if (msg.empty()) continue;
+    ++d.count;
+    if (d.first.empty()) d.first = msg;
+    const size_t id = msg.find("(Id.#");
+    if (d.missing.empty() && msg.find("Unresolved Reference") != std::string::npos && id != std::string::npos)
+      d.missing = msg.substr(id + 4, msg.find(')', id) - id - 4);
+    const int num = chk.Number();
+    if (d.geometry.empty() && !model.IsNull() && num >= 1 && num <= model->NbEntities()) {
+      const Handle(Standard_Transient) ent = model->Value(num);
+      if (isGeometric(ent) && refersToMissing(msg)) {
+        const Handle(TCollection_HAsciiString) label = model->StringLabel(ent);
+        d.geometry = std::string("entity ") + (label.IsNull() ? "number " + std::to_string(num) : label->ToCString()) +
+                     " (" + model->TypeName(ent, false) + "): " + msg;
       }
     }
-    if (real) ++n;
   }
-  return n;
+  return d;
 }
 
-std::string damageWarning(const char* format, int n, const std::string& first, const std::string& path) {
-  return std::string("the ") + format + " reader found " + std::to_string(n) + " damaged entities in '" + path +
-         "' (first: " + first + "): the shape may lack parts";
+/// Applies damagedEntities() before the transfer: refuses damaged geometry, warns on the rest.
+void checkDamage(XSControl_Reader& r, const char* format, const std::string& path,
+                 std::vector<std::string>& warnings) {
+  const Damage d = damagedEntities(r);
+  if (!d.geometry.empty())
+    throw InputError("'" + path + "' has damaged geometry that the " + format + " reader cannot translate safely: " +
+                     d.geometry + (d.missing.empty() ? "" : "; the file refers to " + d.missing + ", which it does not define") +
+                     (d.count > 1 ? " (" + std::to_string(d.count) + " damaged entities in all)" : ""));
+  if (d.count)
+    warnings.push_back(std::string("the ") + format + " reader found " + std::to_string(d.count) +
+                       " damaged entities in '" + path + "' (first: " + d.first + "): the shape may lack parts");
 }
 
 /// The last non-blank line of a text file (at most its last 4 kB are read).
@@ -480,8 +527,7 @@ TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext,
       throw InputError("'" + path + "' is cut short: a STEP file ends with END-ISO-10303-21;");
     STEPControl_Reader r;
     if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError("'" + path + "' is not a readable STEP file");
-    std::string first;
-    if (const int bad = damagedEntities(r, first)) warnings.push_back(damageWarning("STEP", bad, first, path));
+    checkDamage(r, "STEP", path, warnings);
     int n = r.NbRootsForTransfer();
     for (int i = 1; i <= n; ++i) r.TransferRoot(i);
     shape = r.OneShape();
@@ -491,8 +537,7 @@ TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext,
       throw InputError("'" + path + "' is cut short: an IGES file ends with its Terminate (T) section line");
     IGESControl_Reader r;
     if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError("'" + path + "' is not a readable IGES file");
-    std::string first;
-    if (const int bad = damagedEntities(r, first)) warnings.push_back(damageWarning("IGES", bad, first, path));
+    checkDamage(r, "IGES", path, warnings);
     r.ClearShapes();
     r.TransferRoots();
     shape = r.OneShape();
