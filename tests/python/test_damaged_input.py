@@ -91,6 +91,25 @@ def test_reader_crash_becomes_an_error(tmp_path):
     assert p.stdout.startswith("ERR") and "refers to #932" in p.stdout, p.stdout
 
 
+@pytest.mark.parametrize("old,new,named", [
+    # fuzz cases (fuzz_inputs.py python, seed 14): each one ended a python3 calling mesh_file()
+    # with SIGSEGV in OpenCASCADE's STEP translator
+    (b"#200 = EDGE_LOOP('',(#201,#202,#211,#217));", b"", "refers to #200"),  # StepShape_FaceBound::Bound
+    (b"#2217 = FACE_BOUND('',#2218,.F.);", b"#-434.8321479324626 = FACE_BOUND('',#2218,.F.);",
+     "Incorrect syntax"),  # the entity is dropped, its face holds a null bound
+])
+def test_damaged_face_topology_is_refused(tmp_path, old, new, named):
+    text = read("ANC101.stp")
+    assert text.count(old) == 1
+    bad = damaged(tmp_path, "bad.stp", text.replace(old, new))
+    code = ("import sys, freecad.paramesh as pm\n"
+            "try:\n    pm.mesh_file(sys.argv[1])\nexcept pm.InputError as e:\n    print('ERR', e)\n")
+    p = subprocess.run(["/usr/bin/python3", "-c", code, bad], capture_output=True, text=True, timeout=60,
+                       cwd=ROOT, env=dict(os.environ, PYTHONPATH=ROOT))
+    assert p.returncode == 0, (p.returncode, p.stderr[-500:])
+    assert p.stdout.startswith("ERR") and named in p.stdout, p.stdout
+
+
 @needs_cli
 def test_missing_face_entity_is_reported(tmp_path):
     # screw.step without its first ADVANCED_FACE: the reader drops the face (9 of 10, no solid);
