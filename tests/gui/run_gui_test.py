@@ -359,6 +359,10 @@ def step_surface_mesh(doc, wing, analysis):
     show_tasks_tab()
     tips = {f.prop: f.widget.toolTip() for f in panel.params.fields}
     check("every parameter has a tooltip", all(tips.values()), [k for k, v in tips.items() if not v])
+    limits = {k: panel.params.values()[k] for k in ("MaxElements", "NearestFaceBudget", "NearestFaceCheck")}
+    check("the panel shows the element limit and the nearest-face settings",
+          limits == {"MaxElements": mesh.MaxElements, "NearestFaceBudget": mesh.NearestFaceBudget,
+                     "NearestFaceCheck": mesh.NearestFaceCheck} and limits["MaxElements"] == 50000000, limits)
     size_text = panel.params.widget("Size").text()
     check("lengths shown with units", "mm" in size_text, size_text)
 
@@ -374,6 +378,14 @@ def step_surface_mesh(doc, wing, analysis):
     check("no dialog box for a meshing error", QtGui.QApplication.activeModalWidget() is None)
     panel.params.set_value("MinSize", 0.0)
     panel.params.set_value("MaxSize", 0.0)
+    # the element limit set in the panel reaches the run: the wing at 16.75 needs more than 1000
+    panel.params.set_value("MaxElements", 1000)
+    press(QtGui.QDialogButtonBox.Apply)
+    state = wait_run(panel, 30)
+    err = panel.run.error
+    check("MaxElements from the panel stops a run over it, in the panel",
+          state == "failed" and "max_elements" in err and mesh.MaxElements == 1000, err[:200])
+    panel.params.set_value("MaxElements", 50000000)
     # quad-dominant: either meshed with quads or (older cores) a normal error in the panel
     panel.params.set_value("Quads", True)
     press(QtGui.QDialogButtonBox.Apply)

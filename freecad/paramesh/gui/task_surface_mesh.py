@@ -21,6 +21,10 @@ def surface_mesh_fields():
         Field("Proximity", "Elements across thin parts", "int", maximum=100, special="off"),
         Field("Threads", "Threads", "int", maximum=1024, special="all cores"),
         Field("OptimizePasses", "Optimisation passes", "int", maximum=100),
+        Field("NearestFaceBudget", "Nearest-face refinement budget", "float", maximum=10.0, step=0.05,
+              decimals=2, special="off"),
+        Field("NearestFaceCheck", "Always refine nearest-face", "bool"),
+        Field("MaxElements", "Max elements", "int", minimum=1000, maximum=2 ** 31 - 1),
         Field("CreateMeshFeature", "Also make a Mesh feature", "bool"),
     ]
 
