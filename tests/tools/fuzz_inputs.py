@@ -118,7 +118,7 @@ def main():
     failures = []
     work = tempfile.mkdtemp(prefix='pmfuzz')
     env = dict(os.environ, ASAN_OPTIONS='detect_leaks=0:abort_on_error=0',
-               UBSAN_OPTIONS='print_stacktrace=1:halt_on_error=1')
+               UBSAN_OPTIONS='print_stacktrace=1:halt_on_error=1', PYTHONPATH=ROOT)
     for k in range(a.cases):
         model = a.models[k % len(a.models)]
         data = open(model, 'rb').read()
@@ -130,7 +130,6 @@ def main():
             os.remove(out)
         if a.paramesh == 'python':
             cmd = ['/usr/bin/python3', '-c', PY_DRIVER, case, out]
-            env['PYTHONPATH'] = ROOT
         else:
             cmd = [a.paramesh, 'mesh', case, '-o', out, '--quiet'] + a.args.split()
         try:

@@ -1450,9 +1450,9 @@ struct Mesher::Impl {
         const int bad = failedEdgeOf(f);
         if (bad >= 0) {
           fr.ok = false;
-          const std::string name = "Edge" + std::to_string(bad + 1), &why = edgeError_[bad];
+          const std::string name = "Edge" + std::to_string(bad + 1), &reason = edgeError_[bad];
           fr.error = "its " + name + " could not be discretised: " +
-                     (why.rfind(name + ": ", 0) == 0 ? why.substr(name.size() + 2) : why);
+                     (reason.rfind(name + ": ", 0) == 0 ? reason.substr(name.size() + 2) : reason);
         } else if (!buildBoundary(f, *s, fb, why)) {
           fr.ok = false;
           fr.error = why;

@@ -439,7 +439,7 @@ TopoDS_Shape readBrepText(const std::string& text, const std::string& what) {
 struct Damage {
   int count = 0;
   std::string first;     // the first failure message
-  std::string geometry;  // the first damaged geometric entity, described; empty if none
+  std::string refused;   // the first damage refused (refusedIfDamaged(), a syntax error), described; empty if none
   std::string missing;   // the first entity referred to but not defined ("#932"), if any
 };
 
@@ -449,7 +449,7 @@ struct Damage {
 /// StepGeom_CartesianPoint::NbCoordinates; fuzzed ANC101.stp copies: in StepShape_FaceBound::Bound
 /// and through a null edge loop), which only an application's signal handler turns into an error.
 /// A shell or solid missing a face is translated without it, with a warning.
-bool isGeometric(const Handle(Standard_Transient)& ent) {
+bool refusedIfDamaged(const Handle(Standard_Transient)& ent) {
   if (ent.IsNull()) return false;
   const std::string type = ent->DynamicType()->Name();
   if (type.rfind("StepGeom_", 0) == 0 || type.rfind("IGESGeom_", 0) == 0 || type.rfind("IGESSolid_", 0) == 0)
@@ -486,16 +486,16 @@ Damage damagedEntities(XSControl_Reader& r) {
     if (d.first.empty()) d.first = msg;
     // a syntax error in the data: the entity there is dropped, and whatever refers to it holds a
     // null (fuzzed ANC101.stp: SIGSEGV through an edge loop that lost its edges)
-    if (d.geometry.empty() && msg.find("Incorrect syntax") != std::string::npos) d.geometry = msg;
+    if (d.refused.empty() && msg.find("Incorrect syntax") != std::string::npos) d.refused = msg;
     const size_t id = msg.find("(Id.#");
     if (d.missing.empty() && msg.find("Unresolved Reference") != std::string::npos && id != std::string::npos)
       d.missing = msg.substr(id + 4, msg.find(')', id) - id - 4);
     const int num = chk.Number();
-    if (d.geometry.empty() && !model.IsNull() && num >= 1 && num <= model->NbEntities()) {
+    if (d.refused.empty() && !model.IsNull() && num >= 1 && num <= model->NbEntities()) {
       const Handle(Standard_Transient) ent = model->Value(num);
-      if (isGeometric(ent) && refersToMissing(msg)) {
+      if (refusedIfDamaged(ent) && refersToMissing(msg)) {
         const Handle(TCollection_HAsciiString) label = model->StringLabel(ent);
-        d.geometry = std::string("entity ") + (label.IsNull() ? "number " + std::to_string(num) : label->ToCString()) +
+        d.refused = std::string("entity ") + (label.IsNull() ? "number " + std::to_string(num) : label->ToCString()) +
                      " (" + model->TypeName(ent, false) + "): " + msg;
       }
     }
@@ -503,13 +503,13 @@ Damage damagedEntities(XSControl_Reader& r) {
   return d;
 }
 
-/// Applies damagedEntities() before the transfer: refuses damaged geometry, warns on the rest.
+/// Applies damagedEntities() before the transfer: refuses the damage it would crash on, warns on the rest.
 void checkDamage(XSControl_Reader& r, const char* format, const std::string& path,
                  std::vector<std::string>& warnings) {
   const Damage d = damagedEntities(r);
-  if (!d.geometry.empty())
+  if (!d.refused.empty())
     throw InputError("'" + path + "' is damaged where the " + format + " reader cannot translate it safely: " +
-                     d.geometry + (d.missing.empty() ? "" : "; the file refers to " + d.missing + ", which it does not define") +
+                     d.refused + (d.missing.empty() ? "" : "; the file refers to " + d.missing + ", which it does not define") +
                      (d.count > 1 ? " (" + std::to_string(d.count) + " damaged entities in all)" : ""));
   if (d.count)
     warnings.push_back(std::string("the ") + format + " reader found " + std::to_string(d.count) +
