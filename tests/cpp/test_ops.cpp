@@ -9,6 +9,8 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepTools.hxx>
 #include <TopoDS_Face.hxx>
+#include <gp_Ax3.hxx>
+#include <gp_Cylinder.hxx>
 #include <gp_Dir.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Pnt.hxx>
@@ -105,6 +107,50 @@ std::vector<Vec2> randomPoints(int n, unsigned seed, double margin = 0.3) {
   std::vector<Vec2> p;
   for (int i = 0; i < n; ++i) p.push_back({U(rng), U(rng)});
   return p;
+}
+
+/// The boundary of face f of m: its wires' edges discretised against `field` (nodes shared at the
+/// vertices, node = index in nodeXyz), one loop per wire.
+void discretizedBoundary(const IGeometryModel& m, const SizeField& field, int f, FaceBoundary& fb,
+                         std::vector<Vec3>& nodeXyz) {
+  std::map<int, int> vertexNode;
+  auto nodeOfVertex = [&](int v) {
+    auto it = vertexNode.find(v);
+    if (it != vertexNode.end()) return it->second;
+    nodeXyz.push_back(m.vertexPoint(v));
+    return vertexNode[v] = (int)nodeXyz.size() - 1;
+  };
+  int wi = 0;
+  for (const Wire& w : m.faceWires(f)) {
+    std::vector<BoundaryVertex> loop;
+    for (size_t k = 0; k < w.uses.size(); ++k) {
+      const EdgeUse& use = w.uses[k];
+      auto c = m.makeCurve(use.edge);
+      auto pc = m.makePCurve(f, wi, (int)k);
+      ASSERT_TRUE(c && pc);
+      double t0, t1;
+      m.edgeRange(use.edge, t0, t1);
+      CurveSampling cs = sampleCurve(*c, t0, t1, &field);
+      std::vector<double> t = discretizeCurve(cs, field, 1, M_PI / 3);
+      std::vector<int> nodes(t.size());
+      nodes.front() = nodeOfVertex(m.edgeVertex(use.edge, 0));
+      nodes.back() = nodeOfVertex(m.edgeVertex(use.edge, 1));
+      for (size_t i = 1; i + 1 < t.size(); ++i) {
+        nodeXyz.push_back(c->eval(t[i]));
+        nodes[i] = (int)nodeXyz.size() - 1;
+      }
+      for (size_t i = 0; i + 1 < t.size(); ++i) {  // the last point is the next use's first
+        const size_t j = use.reversed ? t.size() - 1 - i : i;
+        BoundaryVertex bv;
+        bv.uv = pc->eval(t[j]);
+        bv.node = nodes[j];
+        bv.xyz = nodeXyz[bv.node];
+        loop.push_back(bv);
+      }
+    }
+    fb.loops.push_back(loop);
+    ++wi;
+  }
 }
 
 /// Structural validity of the live triangles (see test_triangulation.cpp); returns the number of
@@ -490,48 +536,21 @@ TEST(Ops, MeshFacePlanarSquare) {
   SizeField field = constantField(h);
   // boundary: the face's wire, each edge discretised at spacing h, nodes shared at the vertices
   ASSERT_EQ(m.faceWires(0).size(), 1u);
-  const Wire& w = m.faceWires(0)[0];
-  ASSERT_EQ(w.uses.size(), 4u);
+  ASSERT_EQ(m.faceWires(0)[0].uses.size(), 4u);
   std::vector<Vec3> nodeXyz;
-  std::map<int, int> vertexNode;
-  auto nodeOfVertex = [&](int v) {
-    auto it = vertexNode.find(v);
-    if (it != vertexNode.end()) return it->second;
-    nodeXyz.push_back(m.vertexPoint(v));
-    return vertexNode[v] = (int)nodeXyz.size() - 1;
-  };
   FaceBoundary fb;
-  std::vector<BoundaryVertex> loop;
-  for (size_t k = 0; k < w.uses.size(); ++k) {
-    const EdgeUse& use = w.uses[k];
-    auto c = m.makeCurve(use.edge);
-    auto pc = m.makePCurve(0, 0, (int)k);
-    ASSERT_TRUE(c && pc);
-    double t0, t1;
-    m.edgeRange(use.edge, t0, t1);
-    CurveSampling cs = sampleCurve(*c, t0, t1, &field);
-    std::vector<double> t = discretizeCurve(cs, field, 1, M_PI / 3);
-    ASSERT_EQ(t.size(), 11u);  // 10 segments of length 1
-    std::vector<int> nodes(t.size());
-    nodes.front() = nodeOfVertex(m.edgeVertex(use.edge, 0));
-    nodes.back() = nodeOfVertex(m.edgeVertex(use.edge, 1));
-    for (size_t i = 1; i + 1 < t.size(); ++i) {
-      nodeXyz.push_back(c->eval(t[i]));
-      nodes[i] = (int)nodeXyz.size() - 1;
-    }
-    for (size_t i = 0; i + 1 < t.size(); ++i) {  // the last point is the next use's first
-      const size_t j = use.reversed ? t.size() - 1 - i : i;
-      BoundaryVertex bv;
-      bv.uv = pc->eval(t[j]);
-      bv.node = nodes[j];
-      bv.xyz = nodeXyz[bv.node];
-      EXPECT_LE(dist(s.eval(bv.uv), bv.xyz), 1e-9);
-      loop.push_back(bv);
-    }
-  }
+  ASSERT_NO_FATAL_FAILURE(discretizedBoundary(m, field, 0, fb, nodeXyz));
+  const std::vector<BoundaryVertex>& loop = fb.loops[0];
   ASSERT_EQ(loop.size(), 40u);
   ASSERT_EQ(nodeXyz.size(), 40u);
-  fb.loops.push_back(loop);
+  for (const Wire& w : m.faceWires(0))
+    for (const EdgeUse& use : w.uses) {
+      double t0, t1;
+      m.edgeRange(use.edge, t0, t1);
+      CurveSampling cs = sampleCurve(*m.makeCurve(use.edge), t0, t1, &field);
+      EXPECT_EQ(discretizeCurve(cs, field, 1, M_PI / 3).size(), 11u);  // 10 segments of length 1
+    }
+  for (const BoundaryVertex& bv : loop) EXPECT_LE(dist(s.eval(bv.uv), bv.xyz), 1e-9);
   FaceMeshOptions opt;
   FaceMeshResult r = meshFace(s, fb, field, opt, nullptr);
   ASSERT_TRUE(r.ok) << r.error;
@@ -598,4 +617,81 @@ TEST(Ops, MeshFacePlanarSquare) {
   EXPECT_GT(r.tris.size(), 180u);
   EXPECT_LT(r.tris.size(), 280u);
   EXPECT_EQ(r.degenerateDropped, 0);
+}
+
+TEST(Ops, DeviationZoneBound) {
+  DeviationZone z;
+  z.center = {0, 0, 0};
+  z.radius = 2;
+  z.allowed = 0.3;
+  EXPECT_EQ(z.bound({0, 0, 1}), 0.3);
+  EXPECT_EQ(z.bound({0, 0, 2.5}), 1e300);  // outside the ball: no bound
+  // the other face's tangent plane z = -1: fraction x the distance to it, never below the floor
+  z.allowed = 1e300;
+  z.otherPoint = {0, 0, -1};
+  z.otherNormal = {0, 0, 1};
+  z.fraction = 0.5;
+  z.floor = 0.1;
+  EXPECT_NEAR(z.bound({1, 0, 0}), 0.5, 1e-15);
+  EXPECT_NEAR(z.bound({0, 0, -0.5}), 0.25, 1e-15);
+  EXPECT_NEAR(z.bound({0, 1, -0.9}), 0.1, 1e-15);  // the floor, next to the other face
+}
+
+TEST(Ops, DeviationZonesRefineOnlyWhereTheyAre) {
+  // a quarter of a cylinder of radius 2 and height 30 meshed at h = 1.5: chords of 0.75 rad, so
+  // centroids lie about 0.1 off the surface; a zone around one spot bounds them to 0.02 there
+  TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Cylinder(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 2.0), 0,
+                                             M_PI / 2, 0, 30).Face();
+  std::ostringstream out;
+  BRepTools::Write(face, out);
+  auto model = loadOccModelFromBrepString(out.str());
+  auto surf = model->makeSurface(0);
+  const SizeField field = constantField(1.5);
+  std::vector<Vec3> nodeXyz;
+  FaceBoundary fb;
+  ASSERT_NO_FATAL_FAILURE(discretizedBoundary(*model, field, 0, fb, nodeXyz));
+  FaceMeshOptions opt;
+  const FaceMeshResult plain = meshFace(*surf, fb, field, opt, nullptr);
+  ASSERT_TRUE(plain.ok) << plain.error;
+  DeviationZone z;
+  z.center = surf->eval({M_PI / 4, 15.0});
+  z.radius = 2.0;
+  z.allowed = 0.02;
+  opt.deviationZones = {z};
+  const FaceMeshResult zoned = meshFace(*surf, fb, field, opt, nullptr);
+  ASSERT_TRUE(zoned.ok) << zoned.error;
+  // deviation of each triangle (projection of its centroid, seeded at its (u,v) centroid) and
+  // its centroid
+  auto measure = [&](const FaceMeshResult& r, std::vector<double>& dev, std::vector<Vec3>& cen) {
+    auto xyz = [&](int ref) { return ref >= 0 ? nodeXyz[ref] : r.newXyz[-ref - 1]; };
+    for (size_t k = 0; k < r.tris.size(); ++k) {
+      const auto& t = r.tris[k];
+      const Vec3 c = (1.0 / 3) * (xyz(t[0]) + xyz(t[1]) + xyz(t[2]));
+      Vec2 uv = (1.0 / 3) * (r.triUv[k][0] + r.triUv[k][1] + r.triUv[k][2]);
+      Vec3 p;
+      ASSERT_TRUE(surf->project(c, uv, &p));
+      dev.push_back(dist(c, p));
+      cen.push_back(c);
+    }
+  };
+  std::vector<double> d0, d1;
+  std::vector<Vec3> c0, c1;
+  ASSERT_NO_FATAL_FAILURE(measure(plain, d0, c0));
+  ASSERT_NO_FATAL_FAILURE(measure(zoned, d1, c1));
+  int before = 0, farBefore = 0, farAfter = 0;
+  for (size_t k = 0; k < d0.size(); ++k) {
+    if (dist(c0[k], z.center) < z.radius && d0[k] > 0.02) ++before;
+    if (dist(c0[k], z.center) > z.radius + 3.0) ++farBefore;
+  }
+  EXPECT_GT(before, 3) << "the plain mesh is deeper than the bound in the zone";
+  for (size_t k = 0; k < d1.size(); ++k) {
+    if (dist(c1[k], z.center) < z.radius) {
+      EXPECT_LE(d1[k], 0.02 + 1e-9) << "triangle " << k;
+    }
+    if (dist(c1[k], z.center) > z.radius + 3.0) ++farAfter;
+  }
+  EXPECT_EQ(farAfter, farBefore) << "away from the zone the mesh is the same";
+  EXPECT_GT(zoned.tris.size(), plain.tris.size());
+  EXPECT_LT(zoned.tris.size(), plain.tris.size() + 60);
+  EXPECT_GT(farBefore, (int)plain.tris.size() / 2);
 }

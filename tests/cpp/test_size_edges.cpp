@@ -555,7 +555,7 @@ TEST(NearestFace, OtherFaceDeviationAndCadDistance) {
   EXPECT_EQ(nearestFaceSources(m, {{0, 0.5}}, 1e-3).flagged, 0);
   const std::vector<double> dev{0.0, 0.2};
   int calls = 0;
-  const FaceDistance cadNear = [&](Vec3 c, int tri, Vec3 q) {
+  const FaceDistance cadNear = [&](Vec3 c, int tri, Vec3 q, Vec3*) {
     ++calls;
     EXPECT_EQ(tri, 1);
     EXPECT_NEAR(dist(c, q), 0.7, 1e-12);  // the closest point of the other face's mesh
@@ -565,7 +565,7 @@ TEST(NearestFace, OtherFaceDeviationAndCadDistance) {
   EXPECT_EQ(calls, 1);
   EXPECT_EQ(r.flagged, 1);
   EXPECT_NEAR(r.found[0][2], 0.45, 1e-12);
-  const FaceDistance cadFar = [](Vec3, int, Vec3) { return 0.65; };
+  const FaceDistance cadFar = [](Vec3, int, Vec3, Vec3*) { return 0.65; };
   EXPECT_EQ(nearestFaceSources(m, {{0, 0.5}}, 1e-3, &dev, cadFar).flagged, 0);
   // a deviation too small to bring the CAD face within reach: no CAD query at all
   const std::vector<double> dev2{0.0, 0.1};

@@ -354,6 +354,13 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     refineFolded(T, C);
     Optimizer O(T, C, progress);
     O.run(opt.optimizePasses);
+    // the nearest-face check's local bounds first, so that the repairs below (which keep every
+    // bound) clean up after their splits
+    if (!opt.deviationZones.empty() &&
+        O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength, &opt.deviationZones) > 0) {
+      O.smoothPass();
+      O.swapPass();
+    }
     // Triangles with an angle below 30 degrees that the optimiser left: slivers standing on
     // boundary nodes (narrow parts of the face, next to short segments) and caps whose free apex
     // sits almost on the opposite edge. Three variants from the same start: split the longest
@@ -438,8 +445,8 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     }
     // size conformity last: vertices with an edge out of the unit band move where fewer are
     if (opt.optimizePasses > 0) O.lengthPass();
-    if ((opt.maxDeviation > 0 || opt.maxDeviationRatio > 0) &&
-        O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength) > 0) {
+    if ((opt.maxDeviation > 0 || opt.maxDeviationRatio > 0 || !opt.deviationZones.empty()) &&
+        O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength, &opt.deviationZones) > 0) {
       O.smoothPass();
       O.swapPass();
     }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "paramesh/algo/DeviationZone.hpp"
 #include "paramesh/geom/Geometry.hpp"
 #include "paramesh/size/SizeField.hpp"
 #include "paramesh/util/Log.hpp"
@@ -41,6 +42,7 @@ struct FaceMeshOptions {
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
   double maxDeviationRatio = 0; ///< max centroid distance from the surface / the triangle's mean edge; 0: off
   double minSplitLength = 0;    ///< deviation refinement splits no edge shorter than this
+  std::vector<DeviationZone> deviationZones;  ///< local deviation bounds (centroid inside a ball)
   int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
   bool quads = false;           ///< pair triangles into quads (quad-dominant)
   bool sliverPass = true;       ///< post-pass against triangles with angles below 30 degrees

@@ -74,25 +74,30 @@ double Optimizer::deviationEstimate(int ia, int ib, int ic) const {
 
 double Optimizer::allowedDeviation(int a, int b, int c) const {
   double allowed = maxDev_ > 0 ? maxDev_ : 1e300;
+  const Vec3 &A = T_.verts[a].xyz, &B = T_.verts[b].xyz, &Cc = T_.verts[c].xyz;
   if (devRatio_ > 0) {
-    const Vec3 &A = T_.verts[a].xyz, &B = T_.verts[b].xyz, &Cc = T_.verts[c].xyz;
     const double mean = (dist(A, B) + dist(B, Cc) + dist(Cc, A)) / 3.0;
     allowed = std::min(allowed, devRatio_ * mean);
+  }
+  if (!zones_.empty()) {
+    const Vec3 g = (1.0 / 3) * (A + B + Cc);
+    for (const DeviationZone& z : zones_) allowed = std::min(allowed, z.bound(g));
   }
   return allowed + (gap(a) + gap(b) + gap(c)) / 3.0;
 }
 
 bool Optimizer::deviationOk(int a, int b, int c, double allowed) const {
-  if (maxDev_ <= 0 && devRatio_ <= 0) return true;
+  if (!deviationBounded()) return true;
   allowed = std::max(allowed, allowedDeviation(a, b, c));
   if (deviationEstimate(a, b, c) <= 0.5 * allowed) return true;
   return deviation(a, b, c) <= allowed;
 }
 
-int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge) {
+int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, const std::vector<DeviationZone>* zones) {
   maxDev_ = maxDev;
   devRatio_ = ratio;
-  if ((maxDev <= 0 && ratio <= 0) || C_.planar) return 0;
+  zones_ = zones ? *zones : std::vector<DeviationZone>();
+  if (!deviationBounded() || C_.planar) return 0;
   gap_.assign(T_.verts.size(), 0.0);
   for (size_t v = 0; v < T_.verts.size(); ++v) {
     const TriVertex& V = T_.verts[v];
@@ -190,7 +195,7 @@ int Optimizer::swapPass() {
       const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
       const double cold = dot(n0, n1), cnew = dot(m0, m1);
       if (cnew < std::min(cold, 0.984807753) - 1e-9) continue;
-      if (maxDev_ > 0 || devRatio_ > 0) {
+      if (deviationBounded()) {
         const double allowed = std::max(deviationEstimate(a, b, c), deviationEstimate(d, c, b));
         if (!deviationOk(a, b, d, allowed) || !deviationOk(a, d, c, allowed)) continue;
       }
@@ -434,6 +439,7 @@ bool Optimizer::collapse(int t, int i) {
     if (k == 1) v1 = b;
     if (k == 2) v2 = b;
     if (!valid(v0, v1, v2)) return false;
+    if (deviationBounded() && !deviationOk(v0, v1, v2, 0)) return false;
   }
   // relink around the two dying triangles
   for (int dying : {t, u}) {
@@ -673,6 +679,10 @@ bool Optimizer::flipForAngles(int t) {
     const Vec3 m0 = normalized(cross(B.xyz - A.xyz, D.xyz - A.xyz));
     const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
     if (dot(m0, m1) < 0.984807753) continue;  // crease guard (10 degrees)
+    if (deviationBounded()) {
+      const double allowed = std::max(deviationEstimate(a, b, c), deviationEstimate(d, c, b));
+      if (!deviationOk(a, b, d, allowed) || !deviationOk(a, d, c, allowed)) continue;
+    }
     const double q = std::min(sinMinAngle(A.xyz, B.xyz, D.xyz), sinMinAngle(A.xyz, D.xyz, Cc.xyz));
     if (q > best) {
       best = q;

@@ -5,6 +5,7 @@
 /// validity in (u,v) (exact orientation) and in 3D (triangle normal against the surface normal).
 /// Boundary and pole vertices never move; constrained edges are never flipped, split or collapsed.
 #pragma once
+#include "paramesh/algo/DeviationZone.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/algo/Triangulation.hpp"
 #include "paramesh/util/Log.hpp"
@@ -90,7 +91,9 @@ class Optimizer {
   /// tolerance) is not counted: refining cannot remove it. Afterwards swaps and smoothing never
   /// create such triangles.
   /// Edges shorter than minEdge are not split.
-  int refineDeviation(double maxDev, double ratio = 0, double minEdge = 0);
+  /// zones (optional): local bounds, the smallest of the balls holding a triangle's centroid.
+  int refineDeviation(double maxDev, double ratio = 0, double minEdge = 0,
+                      const std::vector<DeviationZone>* zones = nullptr);
   /// 3D quality of triangle t (pole-degenerate triangles count as 1: they vanish in 3D).
   double quality(int t) const;
   /// True when triangle (a,b,c) is valid: counter-clockwise in (u,v) and facing like the surface.
@@ -130,6 +133,8 @@ class Optimizer {
   std::vector<int> ring_;
   double maxDev_ = 0;    ///< absolute deviation bound; 0: none
   double devRatio_ = 0;  ///< deviation bound relative to the mean edge length; 0: none
+  std::vector<DeviationZone> zones_;  ///< local deviation bounds
+  bool deviationBounded() const { return maxDev_ > 0 || devRatio_ > 0 || !zones_.empty(); }
   std::vector<double> gap_;
   std::vector<char> region_;
   bool inRegion(int v) const { return region_.empty() || v >= (int)region_.size() || region_[v]; }

@@ -75,20 +75,30 @@ NearestFaceResult nearestFaceSources(const SurfaceMesh& m, const std::vector<Off
   }
   for (size_t i = 0; i < nc; ++i) {
     double other = 1e300;
+    Vec3 foot = c[i];
     for (const auto& kv : near[i]) {
       const Near& n = kv.second;
-      const double d = (faceDistance && n.tri >= 0) ? faceDistance(c[i], n.tri, n.q) : n.l;
-      other = std::min(other, d);
+      Vec3 x = n.q;
+      const double d = (faceDistance && n.tri >= 0) ? faceDistance(c[i], n.tri, n.q, &x) : n.l;
+      if (d < other) {
+        other = d;
+        foot = x;
+      }
     }
     if (!(other < reach[i])) continue;
     ++out.flagged;
     out.found.push_back({(double)cand[i].tri, cand[i].deviation, other});
+    out.otherFoot.push_back(foot);
     const auto& T = m.triangles[cand[i].tri];
     const double L = (dist(m.nodes[T[0]], m.nodes[T[1]]) + dist(m.nodes[T[1]], m.nodes[T[2]]) +
                       dist(m.nodes[T[2]], m.nodes[T[0]])) / 3.0;
     const double f = std::clamp(std::sqrt(0.5 * other / cand[i].deviation), 0.3, 0.7);
     const double h = f * L;
-    if (h < hmin) continue;  // already as small as allowed
+    if (h < hmin) {  // already as small as allowed
+      out.firstSource.push_back(-1);
+      continue;
+    }
+    out.firstSource.push_back((int)out.sources.size());
     out.sources.push_back({c[i], h});
     for (int v : T) out.sources.push_back({m.nodes[v], h});
   }

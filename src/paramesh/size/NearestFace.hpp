@@ -27,11 +27,14 @@ struct NearestFaceResult {
   int flagged = 0;                  ///< triangles nearer another face's mesh than their own surface
   std::vector<SizeSource> sources;  ///< sizes that bring them back (empty when none can be refined)
   std::vector<std::array<double, 3>> found;  ///< per flagged triangle: index, own deviation, distance to the other face
+  std::vector<Vec3> otherFoot;               ///< per flagged triangle: the nearest point found on the other face
+  std::vector<int> firstSource;              ///< per flagged triangle: its first source (4 in a row), -1: none
 };
 
 /// Distance from point c to the CAD face of mesh triangle `tri`, given the closest point of that
-/// triangle to c (a seed for a projection on the face's surface).
-using FaceDistance = std::function<double(Vec3 c, int tri, Vec3 closest)>;
+/// triangle to c (a seed for a projection on the face's surface); sets *foot to the point of the
+/// face it measured to (left at `closest` when it found none).
+using FaceDistance = std::function<double(Vec3 c, int tri, Vec3 closest, Vec3* foot)>;
 
 /// For every candidate, the distance from its centroid to each other face near it: first on the
 /// mesh (the nearest triangle of each other face whose distance, lowered by that triangle's own
