@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "paramesh/algo/Predicates.hpp"
+#include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/util/Error.hpp"
 
@@ -87,7 +88,7 @@ std::vector<double> marchAlongCurve(const ICurve& c, double from, double to, Vec
 }  // namespace
 
 std::vector<EdgeBLPoints> planEndColumns(const IGeometryModel& m, const EdgeSpecMap& specOf,
-                                         const std::vector<LayerLaw>& laws) {
+                                         const std::vector<LayerLaw>& laws, const Coincidence* same) {
   std::vector<EdgeBLPoints> pts(m.numEdges());
   std::vector<double> startH0(m.numEdges(), 0), endH0(m.numEdges(), 0);
   for (int f = 0; f < m.numFaces(); ++f) {
@@ -103,19 +104,28 @@ std::vector<EdgeBLPoints> planEndColumns(const IGeometryModel& m, const EdgeSpec
         for (int side = 0; side < 2; ++side) {
           const EdgeUse& nb = w.uses[side == 0 ? (k + 1) % n : (k + n - 1) % n];
           if (nb.edge == u.edge || specOf[nb.edge] >= 0 || m.edgeDegenerate(nb.edge)) continue;
-          double t0, t1;
-          m.edgeRange(nb.edge, t0, t1);
           // the shared vertex is at the start of the next use's traversal / end of the previous'
-          const bool atStart = side == 0 ? !nb.reversed : nb.reversed;
-          auto& list = atStart ? pts[nb.edge].fromStart : pts[nb.edge].fromEnd;
-          double& h0 = atStart ? startH0[nb.edge] : endH0[nb.edge];
+          bool atStart = side == 0 ? !nb.reversed : nb.reversed;
+          // an edge of an unsewn face is discretised through its representative: the points go
+          // there, measured along its curve from its vertex node, so that the face's loop (which
+          // takes the representative's nodes) has them at exactly the row heights
+          int e = nb.edge;
+          if (same && same->edgeRep[e] != e) {
+            if (same->edgeReversed[e]) atStart = !atStart;
+            e = same->edgeRep[e];
+          }
+          double t0, t1;
+          m.edgeRange(e, t0, t1);
+          auto& list = atStart ? pts[e].fromStart : pts[e].fromEnd;
+          double& h0 = atStart ? startH0[e] : endH0[e];
           if (!list.empty() && h0 <= law.h0) continue;  // already set by a finer layer
-          auto c = m.makeCurve(nb.edge);
+          auto c = m.makeCurve(e);
           double last = 0;
-          const int vtx = m.edgeVertex(nb.edge, atStart ? 0 : 1);
+          int vtx = m.edgeVertex(e, atStart ? 0 : 1);
+          if (same && vtx >= 0) vtx = same->vertexRep[vtx];
           const Vec3 start = vtx >= 0 ? m.vertexPoint(vtx) : c->eval(atStart ? t0 : t1);
           list = atStart ? marchAlongCurve(*c, t0, t1, start, law, &last) : marchAlongCurve(*c, t1, t0, start, law, &last);
-          (atStart ? pts[nb.edge].lastHeightStart : pts[nb.edge].lastHeightEnd) = last;
+          (atStart ? pts[e].lastHeightStart : pts[e].lastHeightEnd) = last;
           h0 = law.h0;
         }
       }
@@ -200,11 +210,17 @@ class FaceLayers {
     return {(G * a - F * b) / det, (E * b - F * a) / det};
   }
 
-  /// Point at straight 3D distance h from (uv, x) in direction d, on the surface.
+  /// Point at straight 3D distance h from (uv, x) in direction d, on the surface, in the column's
+  /// plane (through x, spanned by d and the surface normal) within 1 % of h.
   bool step(Vec2 uv, Vec3 x, Vec3 d, double h, Vec2& uvOut, Vec3& xOut) const {
     Vec2 q = uv + uvStep(uv, h * d);
     Vec3 target = x + h * d;
     Vec3 p;
+    const Vec3 side = normalized(cross(d, normalAt(uv)));  // normal of the column's plane
+    auto within = [&](double lenTol, double sideTol) {
+      return std::fabs(dist(p, x) - h) <= lenTol * h && std::fabs(dot(p - x, side)) <= sideTol * h;
+    };
+    // the chord rescaled to h after each projection: enough on smooth faces
     for (int it = 0; it < 4; ++it) {
       if (!S_.project(target, q, &p, 0.0)) return false;
       const double l = dist(p, x);
@@ -212,9 +228,54 @@ class FaceLayers {
       if (std::fabs(l - h) <= 1e-7 * h) break;
       target = x + (h / l) * (p - x);
     }
+    // Every point of the surface at distance h is a fixed point of that iteration, and where the
+    // surface turns away within the step (a step of several radii around a blade's nose: the
+    // first projection lands at less than half of h) it converges slowly and slides along the
+    // row: columns stopped after four projections as if they had left the face, or leant down to
+    // 19 degrees from the edge. There the point is solved for in the column's plane.
+    if (!within(1e-7, 1e-2) && !solveInPlane(x, side, h, q, p)) return false;
     uvOut = q;
     xOut = p;
-    return std::fabs(dist(p, x) - h) <= 1e-3 * h;
+    return within(1e-3, 1e-2) && dot(p - x, d) > 0;
+  }
+
+  /// Newton on |S(q) - x| = h and (S(q) - x).side = 0 from q (in/out; p = S(q)), damped, within
+  /// the face's parameter bounds. False when the residual stops decreasing above 1e-10 h.
+  bool solveInPlane(Vec3 x, Vec3 side, double h, Vec2& q, Vec3& p) const {
+    const UVBox b = S_.bounds();
+    const bool uFree = S_.uPeriod() > 0, vFree = S_.vPeriod() > 0;
+    // both equations as lengths: (|c|^2 - h^2) / 2h is |c| - h to first order
+    auto residual = [&](Vec3 c) { return std::hypot((dot(c, c) - h * h) / (2 * h), dot(c, side)); };
+    Vec3 du, dv;
+    S_.d1(q, p, du, dv);
+    double r = residual(p - x);
+    for (int it = 0; it < 30 && r > 1e-10 * h; ++it) {
+      const Vec3 c = p - x;
+      const double f1 = (dot(c, c) - h * h) / (2 * h), f2 = dot(c, side);
+      const double a11 = dot(c, du) / h, a12 = dot(c, dv) / h, a21 = dot(du, side), a22 = dot(dv, side);
+      const double det = a11 * a22 - a12 * a21;
+      if (!(std::fabs(det) > 0)) return false;
+      const Vec2 dq{-(a22 * f1 - a12 * f2) / det, -(a11 * f2 - a21 * f1) / det};
+      bool better = false;
+      for (double t = 1; t > 1e-4 && !better; t *= 0.5) {
+        Vec2 qn = q + t * dq;
+        if (!uFree) qn.x = std::clamp(qn.x, b.u0, b.u1);
+        if (!vFree) qn.y = std::clamp(qn.y, b.v0, b.v1);
+        Vec3 pn, dun, dvn;
+        S_.d1(qn, pn, dun, dvn);
+        const double rn = residual(pn - x);
+        if (rn < r) {
+          q = qn;
+          p = pn;
+          du = dun;
+          dv = dvn;
+          r = rn;
+          better = true;
+        }
+      }
+      if (!better) return false;
+    }
+    return true;
   }
 
   bool crossesLoops(Vec2 a, Vec2 b, int skipLoop, int skipA, int skipB) const {
@@ -269,7 +330,7 @@ class FaceLayers {
     const auto& lp = loops_[L];
     const int n = (int)lp.size();
     int k = 0;
-    int cur = i;
+    int cur = ((i % n) + n) % n;  // a run that wraps past the loop's first point passes i >= n
     while (k < law.layers) {
       const int nxt = ((cur + dir) % n + n) % n;
       if (isBL(dir > 0 ? lp[cur] : lp[nxt])) break;
@@ -519,6 +580,8 @@ class FaceLayers {
           }
         }
       }
+      // 2b) a column whose neighbours both stopped below it would stand alone: it stops with them
+      trimNeedles(cols, closed);
       // 3) new directions from the new row: b = n x (row tangent), same side as before
       for (int i = 0; i < m; ++i) {
         Column& c = cols[i];
@@ -705,11 +768,40 @@ class FaceLayers {
     }
   }
 
+  /// A marched column standing above both its neighbours has no element beside its upper rows:
+  /// the front would run up one side of it and back down the other through the same nodes, a slit
+  /// the face mesher refuses ("two boundary points coincide"). Such a column is cut down to its
+  /// taller neighbour and stops for that neighbour's reason (a collision when the neighbour simply
+  /// has fewer rows by its own law).
+  static void trimNeedles(std::vector<Column>& cols, bool closed) {
+    const int m = (int)cols.size();
+    if (m < 3) return;
+    for (bool again = true; again;) {
+      again = false;
+      for (int i = 0; i < m; ++i) {
+        if (!closed && (i == 0 || i == m - 1)) continue;  // the ends of an open run are fixed
+        Column& c = cols[i];
+        const Column &a = cols[(i + m - 1) % m], &b = cols[(i + 1) % m];
+        const Column& taller = a.xyz.size() >= b.xyz.size() ? a : b;
+        if (c.fixed || c.xyz.size() <= taller.xyz.size()) continue;
+        while (c.xyz.size() > taller.xyz.size()) {
+          c.uv.pop_back();
+          c.xyz.pop_back();
+          c.ref.pop_back();
+        }
+        c.active = false;
+        c.stop = taller.stop > 0 ? taller.stop : 2;
+        again = true;
+      }
+    }
+  }
+
   void emit(int L, int a, int nseg, bool closed, std::vector<Column>& cols) {
     const auto& lp = loops_[L];
     const int n = (int)lp.size();
     const int m = (int)cols.size();
     untangle(cols, closed);
+    trimNeedles(cols, closed);  // untangling may have cut a neighbour down
     // node refs for marched points
     for (auto& c : cols)
       for (size_t k = 1; k < c.xyz.size(); ++k)

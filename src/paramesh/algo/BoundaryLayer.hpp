@@ -28,6 +28,8 @@
 
 namespace paramesh {
 
+struct Coincidence;
+
 /// Row heights of one specification: h_k = h0 r^k for k = 0..layers-1.
 struct LayerLaw {
   double h0 = 0, r = 1;
@@ -87,8 +89,10 @@ struct EdgeBLPoints {
   std::vector<double> fromStart, fromEnd;
   double lastHeightStart = 0, lastHeightEnd = 0;  ///< height of the last row reaching each end
 };
+/// With `same` (unsewn CAD), the points of an edge meshed through a coincident representative
+/// are planned on the representative (its parameters, from its vertex nodes).
 std::vector<EdgeBLPoints> planEndColumns(const IGeometryModel& m, const EdgeSpecMap& specOf,
-                                         const std::vector<LayerLaw>& laws);
+                                         const std::vector<LayerLaw>& laws, const Coincidence* same = nullptr);
 
 /// 2D part: grows the layers inside one face whose loops (in order, as built for meshing) contain
 /// BL edges. Node refs of loop points are global; the result's loops replace the face's loops.

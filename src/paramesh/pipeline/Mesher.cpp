@@ -311,7 +311,7 @@ struct Mesher::Impl {
       }
     }
     blStats.assign(blLaws.size(), FaceBLResult::SpecStats());
-    blEnds = planEndColumns(model, blSpecOf, blLaws);
+    blEnds = planEndColumns(model, blSpecOf, blLaws, &same);
     baseField = field;
     // the points of the outermost columns are size sources: edges and faces grade from them
     for (int e = 0; e < model.numEdges(); ++e) {
