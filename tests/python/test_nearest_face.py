@@ -205,3 +205,38 @@ def test_blade_edges_are_mended_in_place():
     assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"
     g, poor, band = quality(r, h)
     assert g > 0.9516 and poor < 3.00 and band > 95.89, (g, poor, band)  # measured 0.9660, 1.79, 97.86
+
+
+@needs_freecad
+def test_refinement_never_turns_a_triangle_inside_out():
+    """propeller_and_shaft at diagonal/100: the nearest-face zones refine the blades' noses
+    (radius down to 1 mm, h = 19) in place. A split there may put the new point on the far side
+    of the nose; the triangles it makes would face away from the surface at all three of their
+    nodes. Before the split and centroid insertions checked for it, one such triangle was left on
+    Face8 (normal opposite the CAD's at its three nodes); now none is. Each node is judged by the
+    normal of its own face at its projection (FreeCAD's Surface.parameter / normalAt)."""
+    import FreeCAD
+    h = 1904.9886655946982 / 100
+    shape = bc.read_shape(PS)
+    r = pm.mesh_shape(PS, size=h)
+    nf = r.report["nearest_face_check"]
+    assert nf["outcome"] == "refined" and nf["remaining"] == 0, nf
+    faces = shape.Faces
+    P, t, tf = r.nodes, r.triangles, r.triangle_face
+    normal = {}
+    inside_out = []
+    for k in range(len(t)):
+        f = faces[int(tf[k]) - 1]
+        nt = np.cross(P[t[k, 1]] - P[t[k, 0]], P[t[k, 2]] - P[t[k, 0]])
+        away = 0
+        for v in t[k]:
+            key = (int(v), int(tf[k]))
+            if key not in normal:
+                u, w = f.Surface.parameter(FreeCAD.Vector(*P[v]))
+                n = f.normalAt(u, w)
+                normal[key] = np.array([n.x, n.y, n.z])
+            away += np.dot(nt, normal[key]) < 0
+        if away == 3:
+            inside_out.append((k, int(tf[k])))
+    assert inside_out == [], inside_out
+    assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"

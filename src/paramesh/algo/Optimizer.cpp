@@ -24,6 +24,13 @@ double Optimizer::quality(int t) const {
   return gamma3(a.xyz, b.xyz, c.xyz);
 }
 
+namespace {
+// a triangle that faces away from the surface: its normal opposes the sum of its vertices' normals
+bool facesAway(const TriVertex& p, const TriVertex& q, const TriVertex& r) {
+  return dot(cross(q.xyz - p.xyz, r.xyz - p.xyz), p.normal + q.normal + r.normal) < 0;
+}
+}  // namespace
+
 bool Optimizer::valid(int ia, int ib, int ic) const {
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
@@ -139,7 +146,7 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
           best = i;
         }
       }
-      if (best >= 0 && splitEdge(t, best) >= 0) {
+      if (best >= 0 && splitEdge(t, best, true) >= 0) {
         ++done;
         continue;
       }
@@ -154,7 +161,13 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
       int e = -1;
       const int where = T_.locate(s0, t, &e, Triangulation::kLocalWalk);
       if (where < 0 || (e >= 0 && T_.isConstrained(where, e))) continue;
-      const int v = T_.addVertex(C_.makeVertex(s0));
+      TriVertex P = C_.makeVertex(s0);
+      if (e < 0) {  // as for the splits: no new triangle facing away from the surface
+        const Triangle& W = T_.tris[where];
+        const TriVertex &A = T_.verts[W.v[0]], &B = T_.verts[W.v[1]], &D = T_.verts[W.v[2]];
+        if (!facesAway(A, B, D) && (facesAway(A, B, P) || facesAway(B, D, P) || facesAway(D, A, P))) continue;
+      }
+      const int v = T_.addVertex(P);
       const Triangulation::FlipTest none = [](int, int) { return false; };
       T_.insert(v, where, e, none, nullptr);
       ++done;
@@ -561,7 +574,7 @@ int Optimizer::splitPass(double longRatio) {
   return splits;
 }
 
-int Optimizer::splitEdge(int t, int i) {
+int Optimizer::splitEdge(int t, int i, bool keepFacing) {
   if (T_.isConstrained(t, i)) return -1;
   const Triangle& tr = T_.tris[t];
   const int a = tr.v[nx(i)], b = tr.v[pv(i)];
@@ -578,6 +591,40 @@ int Optimizer::splitEdge(int t, int i) {
     if (C_.project(0.5 * (T_.verts[a].xyz + T_.verts[b].xyz), s, p) && C_.inDomain(s)) {
       projected = s;
       projectedXyz = p;
+    }
+  }
+  if (keepFacing) {
+    // the split must not turn a triangle that faces like the surface into ones that face away
+    // (across a nose far smaller than the triangle, the midpoint can land on the other side):
+    // the new triangles (c, a, m), (c, m, b) and, across the edge, (d, b, m), (d, m, a), with m
+    // where the split below puts it
+    const int c = tr.v[i], u = tr.n[i];
+    int d = -1;
+    if (u >= 0)
+      for (int k = 0; k < 3; ++k)
+        if (T_.tris[u].v[k] != a && T_.tris[u].v[k] != b) d = T_.tris[u].v[k];
+    auto uvOk = [&](Vec2 x) {
+      const Vec2 &A = T_.verts[a].uv, &B = T_.verts[b].uv, &Cc = T_.verts[c].uv;
+      if (orient2d(Cc, A, x) <= 0 || orient2d(Cc, x, B) <= 0) return false;
+      if (d >= 0) {
+        const Vec2& D = T_.verts[d].uv;
+        if (orient2d(D, B, x) <= 0 || orient2d(D, x, A) <= 0) return false;
+      }
+      return true;
+    };
+    TriVertex mv;
+    if (uvOk(projected)) {
+      mv.uv = projected;
+      mv.xyz = projectedXyz;
+      C_.fill(mv);
+    } else {
+      mv = nv;
+    }
+    const TriVertex &A = T_.verts[a], &B = T_.verts[b], &Cc = T_.verts[c];
+    if (!facesAway(Cc, A, B) && (facesAway(Cc, A, mv) || facesAway(Cc, mv, B))) return -1;
+    if (d >= 0) {
+      const TriVertex& D = T_.verts[d];
+      if (!facesAway(D, B, A) && (facesAway(D, B, mv) || facesAway(D, mv, A))) return -1;
     }
   }
   const int v = T_.addVertex(nv);

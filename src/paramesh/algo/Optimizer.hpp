@@ -49,8 +49,10 @@ class Optimizer {
   /// Splits edges longer than `longRatio` * h (3D), longest first. Returns the number of splits.
   int splitPass(double longRatio);
   /// Splits edge i of triangle t at its surface midpoint (projected 3D chord midpoint when valid).
-  /// Returns the new vertex, or -1 when the edge is constrained or the midpoint leaves the face.
-  int splitEdge(int t, int i);
+  /// Returns the new vertex, or -1 when the edge is constrained or the midpoint leaves the face
+  /// (or, with keepFacing, when a new triangle would face away from the surface where the one it
+  /// came from did not).
+  int splitEdge(int t, int i, bool keepFacing = false);
   /// Collapses edges shorter than `shortRatio` * h when no edge longer than maxRatio * h appears.
   int collapsePass(double shortRatio, double maxRatio);
   /// Triangles standing on a boundary-layer front edge (both ends face-local boundary nodes)
