@@ -2,8 +2,10 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Markdown table and pass/fail summary of a bench/compare.py run, against issue 2's criteria.
 
-usage: report.py QUALITY.json [--timing TIMING.json]
-QUALITY.json: results.json of a run with meshcheck (bench/compare.py without --no-check);
+usage: report.py QUALITY.json [QUALITY2.json ...] [--timing TIMING.json]
+QUALITY.json: results.json of a run with meshcheck (bench/compare.py without --no-check); several
+(runs over disjoint --models lists, e.g. two halves run side by side) are merged, sorted by model
+and h;
 TIMING.json: results.json of a separate --no-check run (seconds taken from it when given).
 The comparison uses the exact meshcheck values, not the rounded ones printed in the table.
 """
@@ -12,10 +14,10 @@ import argparse, json, statistics
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument('quality')
+    ap.add_argument('quality', nargs='+')
     ap.add_argument('--timing', default='')
     a = ap.parse_args()
-    rows = json.load(open(a.quality))
+    rows = sorted((r for q in a.quality for r in json.load(open(q))), key=lambda r: (r['model'], r['div']))
     timing = {}
     if a.timing:
         for r in json.load(open(a.timing)):
