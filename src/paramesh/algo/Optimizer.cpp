@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include "paramesh/algo/Predicates.hpp"
 
@@ -202,6 +203,13 @@ bool Optimizer::flipAllowed(int a, int b, int c, int d) const {
 
 int Optimizer::swapPass() {
   int flips = 0;
+  // triangle qualities, computed once per pass: a flip rewrites only its two triangles and no
+  // vertex moves during the pass (each triangle was evaluated from all three of its edges)
+  std::vector<double> q(T_.tris.size(), std::numeric_limits<double>::quiet_NaN());
+  auto qual = [&](int t) {
+    if (std::isnan(q[t])) q[t] = quality(t);
+    return q[t];
+  };
   for (int t = 0; t < (int)T_.tris.size(); ++t) {
     poll(t);
     if (T_.tris[t].dead || !triInRegion(t)) continue;
@@ -212,12 +220,13 @@ int Optimizer::swapPass() {
       const int j = T_.edgeTo(u, t);
       if (j < 0) continue;
       const int a = tr.v[i], b = tr.v[nx(i)], c = tr.v[pv(i)], d = T_.tris[u].v[j];
-      const double q0 = std::min(quality(t), quality(u));
+      const double q0 = std::min(qual(t), qual(u));
       const TriVertex &A = T_.verts[a], &B = T_.verts[b], &Cc = T_.verts[c], &D = T_.verts[d];
       const double q1 = std::min(gamma3(A.xyz, B.xyz, D.xyz), gamma3(A.xyz, D.xyz, Cc.xyz));
       if (!(q1 > q0 + 1e-6)) continue;
       if (!flipAllowed(a, b, c, d)) continue;
       if (T_.flip(t, i)) {
+        q[t] = q[u] = std::numeric_limits<double>::quiet_NaN();
         for (int v : {a, b, c, d}) addToRegion(v);
         ++flips;
         i = -1;  // triangle t changed: rescan its edges
