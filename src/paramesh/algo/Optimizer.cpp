@@ -195,7 +195,17 @@ bool Optimizer::flipAllowed(int a, int b, int c, int d) const {
   const Vec3 m1 = normalized(cross(D.xyz - A.xyz, Cc.xyz - A.xyz));
   if (dot(m0, m1) < std::min(dot(n0, n1), 0.984807753) - 1e-9) return false;
   if (deviationBounded()) {
-    const double allowed = std::max(deviationEstimate(a, b, c), deviationEstimate(d, c, b));
+    // the new pair keeps its own bounds, or deviates no more than an old triangle that already
+    // broke its bound did (before, the old pair's estimated deviation, from the vertex normals,
+    // was allowed: it can run above a bound the pair meets, and a pair outside a zone has none,
+    // so flips broke zone bounds)
+    auto over = [&](int p, int q, int r) {
+      const double bound = allowedDeviation(p, q, r);
+      if (deviationEstimate(p, q, r) <= 0.5 * bound) return 0.0;
+      const double dv = deviation(p, q, r);
+      return dv > bound ? dv : 0.0;
+    };
+    const double allowed = std::max(over(a, b, c), over(d, c, b));
     if (!deviationOk(a, b, d, allowed) || !deviationOk(a, d, c, allowed)) return false;
   }
   return true;
