@@ -637,14 +637,19 @@ TEST(Ops, DeviationZoneBound) {
   EXPECT_NEAR(z.bound({0, 1, -0.9}), 0.1, 1e-15);  // the floor, next to the other face
 }
 
-TEST(Ops, DeviationZonesRefineOnlyWhereTheyAre) {
-  // a quarter of a cylinder of radius 2 and height 30 meshed at h = 1.5: chords of 0.75 rad, so
-  // centroids lie about 0.1 off the surface; a zone around one spot bounds them to 0.02 there
+/// A quarter of a cylinder of radius 2 and height 30 (axis z), read back through the OCC backend.
+std::unique_ptr<IGeometryModel> quarterCylinder() {
   TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Cylinder(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 2.0), 0,
                                              M_PI / 2, 0, 30).Face();
   std::ostringstream out;
   BRepTools::Write(face, out);
-  auto model = loadOccModelFromBrepString(out.str());
+  return loadOccModelFromBrepString(out.str());
+}
+
+TEST(Ops, DeviationZonesRefineOnlyWhereTheyAre) {
+  // a quarter of a cylinder of radius 2 and height 30 meshed at h = 1.5: chords of 0.75 rad, so
+  // centroids lie about 0.1 off the surface; a zone around one spot bounds them to 0.02 there
+  auto model = quarterCylinder();
   auto surf = model->makeSurface(0);
   const SizeField field = constantField(1.5);
   std::vector<Vec3> nodeXyz;
@@ -704,11 +709,7 @@ TEST(Ops, DeviationZoneBoundsHoldOverASweep) {
   // bounds (Optimizer::flipAllowed allowed the old pair's estimated deviation, and a pair outside
   // the zone had no bound at all), the swaps after the last refinement left 5 of the 63 above
   // (up to 0.026 for a bound of 0.01)
-  TopoDS_Face face = BRepBuilderAPI_MakeFace(gp_Cylinder(gp_Ax3(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 2.0), 0,
-                                             M_PI / 2, 0, 30).Face();
-  std::ostringstream out;
-  BRepTools::Write(face, out);
-  auto model = loadOccModelFromBrepString(out.str());
+  auto model = quarterCylinder();
   auto surf = model->makeSurface(0);
   int refined = 0;
   for (double h : {1.2, 1.3, 1.4, 1.5, 1.6, 1.7, 1.8})
