@@ -8,10 +8,9 @@ usage: bench/threads.py RESULTS.json RUN_DIR [--threads 2] [--repeat 3] [--out D
 RESULTS.json / RUN_DIR: results.json of a bench/compare.py run (e.g. a --no-check timing run) and
 the directory holding its MSH files (MODEL_DIV.paramesh.msh); its cases and sizes are used.
 """
-import argparse, filecmp, json, os, subprocess
+import argparse, filecmp, json, os
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-MODELS = os.path.join(os.path.dirname(ROOT), 'shared', 'models')
+from compare import MODELS, ROOT, run_ours  # bench/ is on sys.path when run as bench/threads.py
 
 
 def main():
@@ -34,9 +33,10 @@ def main():
         for _ in range(a.repeat):
             for n in (1, a.threads):
                 out, rep = os.path.join(a.out, f'{tag}_{n}.msh'), os.path.join(a.out, f'{tag}_{n}.json')
-                subprocess.run([a.paramesh, 'mesh', os.path.join(MODELS, r['model']), '-o', out, '--size',
-                                repr(r['h']), '--threads', str(n), '--report', rep, '--quiet'], check=True)
-                best[n] = min(best.get(n, 1e300), json.load(open(rep))['seconds']['total'])
+                o = run_ours(os.path.join(MODELS, r['model']), r['h'], out, rep, n, [], a.paramesh)
+                if o['exit'] != 0:
+                    raise SystemExit(f"{tag}, {n} threads: exit {o['exit']}: {o['stderr']}")
+                best[n] = min(best.get(n, 1e300), o['mesh_s'])
         s1, sn = best[1], best[a.threads]
         ref = os.path.join(a.run_dir, tag + '.paramesh.msh')
         same = all(filecmp.cmp(os.path.join(a.out, f'{tag}_{n}.msh'), ref, shallow=False) for n in (1, a.threads))

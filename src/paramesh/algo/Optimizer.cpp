@@ -596,72 +596,48 @@ int Optimizer::splitPass(double longRatio) {
 int Optimizer::splitEdge(int t, int i, bool keepFacing) {
   if (T_.isConstrained(t, i)) return -1;
   const Triangle& tr = T_.tris[t];
-  const int a = tr.v[nx(i)], b = tr.v[pv(i)];
+  const int a = tr.v[nx(i)], b = tr.v[pv(i)], c = tr.v[i], u = tr.n[i];
   const Vec2 m = 0.5 * (T_.verts[a].uv + T_.verts[b].uv);
   if (!C_.inDomain(m)) return -1;
   TriVertex nv = C_.makeVertex(m);
+  // the new triangles (c, a, m), (c, m, b) and, across the edge, (d, b, m), (d, m, a)
+  int d = -1;
+  if (u >= 0)
+    for (int k = 0; k < 3; ++k)
+      if (T_.tris[u].v[k] != a && T_.tris[u].v[k] != b) d = T_.tris[u].v[k];
   // the 3D midpoint of the chord, projected, is a better split point on curved faces: use it
-  // when it keeps the new triangles valid in (u,v)
-  Vec2 projected = m;
-  Vec3 projectedXyz = nv.xyz;
+  // when it keeps the new triangles valid in (u,v) (orient2d is exact: the same test as on the
+  // inserted vertex's ring)
   if (!C_.planar) {
     Vec2 s = m;
     Vec3 p;
     if (C_.project(0.5 * (T_.verts[a].xyz + T_.verts[b].xyz), s, p) && C_.inDomain(s)) {
-      projected = s;
-      projectedXyz = p;
+      const Vec2 &A = T_.verts[a].uv, &B = T_.verts[b].uv, &Cc = T_.verts[c].uv;
+      bool ok = orient2d(Cc, A, s) > 0 && orient2d(Cc, s, B) > 0;
+      if (ok && d >= 0) {
+        const Vec2& D = T_.verts[d].uv;
+        ok = orient2d(D, B, s) > 0 && orient2d(D, s, A) > 0;
+      }
+      if (ok) {
+        nv.uv = s;
+        nv.xyz = p;
+        C_.fill(nv);
+      }
     }
   }
   if (keepFacing) {
     // the split must not turn a triangle that faces like the surface into ones that face away
-    // (across a nose far smaller than the triangle, the midpoint can land on the other side):
-    // the new triangles (c, a, m), (c, m, b) and, across the edge, (d, b, m), (d, m, a), with m
-    // where the split below puts it
-    const int c = tr.v[i], u = tr.n[i];
-    int d = -1;
-    if (u >= 0)
-      for (int k = 0; k < 3; ++k)
-        if (T_.tris[u].v[k] != a && T_.tris[u].v[k] != b) d = T_.tris[u].v[k];
-    auto uvOk = [&](Vec2 x) {
-      const Vec2 &A = T_.verts[a].uv, &B = T_.verts[b].uv, &Cc = T_.verts[c].uv;
-      if (orient2d(Cc, A, x) <= 0 || orient2d(Cc, x, B) <= 0) return false;
-      if (d >= 0) {
-        const Vec2& D = T_.verts[d].uv;
-        if (orient2d(D, B, x) <= 0 || orient2d(D, x, A) <= 0) return false;
-      }
-      return true;
-    };
-    TriVertex mv;
-    if (uvOk(projected)) {
-      mv.uv = projected;
-      mv.xyz = projectedXyz;
-      C_.fill(mv);
-    } else {
-      mv = nv;
-    }
+    // (across a nose far smaller than the triangle, the midpoint can land on the other side)
     const TriVertex &A = T_.verts[a], &B = T_.verts[b], &Cc = T_.verts[c];
-    if (!facesAway(Cc, A, B) && (facesAway(Cc, A, mv) || facesAway(Cc, mv, B))) return -1;
+    if (!facesAway(Cc, A, B) && (facesAway(Cc, A, nv) || facesAway(Cc, nv, B))) return -1;
     if (d >= 0) {
       const TriVertex& D = T_.verts[d];
-      if (!facesAway(D, B, A) && (facesAway(D, B, mv) || facesAway(D, mv, A))) return -1;
+      if (!facesAway(D, B, A) && (facesAway(D, B, nv) || facesAway(D, nv, A))) return -1;
     }
   }
   const int v = T_.addVertex(nv);
   const Triangulation::FlipTest none = [](int, int) { return false; };
   T_.insert(v, t, i, none, nullptr);
-  std::vector<int> rg;
-  T_.ring(v, rg);
-  T_.verts[v].uv = projected;
-  T_.verts[v].xyz = projectedXyz;
-  for (int r : rg) {
-    const Triangle& R = T_.tris[r];
-    if (orient2d(T_.verts[R.v[0]].uv, T_.verts[R.v[1]].uv, T_.verts[R.v[2]].uv) <= 0) {
-      T_.verts[v].uv = m;
-      T_.verts[v].xyz = nv.xyz;
-      break;
-    }
-  }
-  C_.fill(T_.verts[v]);
   return v;
 }
 
