@@ -188,7 +188,7 @@ def test_blade_edges_are_mended_in_place():
     their face: centroids off the surface by at most 0.8 of their distance to the other skin's
     tangent plane), not through size sources (which refined both skins and took the edges within
     [h/sqrt2, h sqrt2] to 94.50 %, below Gmsh 4.8's 95.89 %): only the five skins are meshed
-    again, the mesh grows by less than 1 %, no triangle is left nearer another face, and the
+    again, the mesh grows by about 1 %, no triangle is left nearer another face, and the
     quality stays above Gmsh Frontal's on this case (docs/benchmark.md: gamma 0.9516, 3.00 %
     below 30 degrees, 95.89 % of edges in the band)."""
     h = 1904.9886655946982 / 200
@@ -200,11 +200,13 @@ def test_blade_edges_are_mended_in_place():
     nf = r.report["nearest_face_check"]
     assert nf["outcome"] == "refined" and nf["remaining"] == 0, nf
     assert nf["faces_remeshed_per_round"][0] == 5, nf  # the skins holding the flagged triangles
-    assert len(r.triangles) < 1.01 * len(plain.triangles)
+    # measured 8066 / 7986 (+1.0 %; before the nose-cap collapses of the per-triangle repair,
+    # 8062 against a plain mesh with its caps)
+    assert len(r.triangles) < 1.015 * len(plain.triangles)
     assert wrong_side(shape, r, h, blades) == []
     assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"
     g, poor, band = quality(r, h)
-    assert g > 0.9516 and poor < 3.00 and band > 95.89, (g, poor, band)  # measured 0.9660, 1.79, 97.86
+    assert g > 0.9516 and poor < 3.00 and band > 95.89, (g, poor, band)  # measured 0.9702, 1.43, 97.18 (meshcheck)
 
 
 @needs_freecad
@@ -239,4 +241,41 @@ def test_refinement_never_turns_a_triangle_inside_out():
         if away == 3:
             inside_out.append((k, int(tf[k])))
     assert inside_out == [], inside_out
+    assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"
+
+
+@needs_freecad
+def test_no_triangle_lies_across_a_blade_nose():
+    """propeller_and_shaft at diagonal/100: at each blade tip, the seam Edge42 (and its copies on
+    the other blades) runs along a nose far thinner than h = 19. The only triangles on its last
+    segment that face like the surface at all three nodes were caps (171 degrees) lying inside
+    the blade, their centroid nearer the far side, where the normal is reversed: meshcheck
+    counted the five of them flipped (0.23 %). The per-triangle repair may now collapse such a
+    cap's apex when the triangle left faces like the surface at its centroid's projection.
+    Judged like meshcheck: each centroid against its own face (the nearest face when it lies
+    more than 0.05 h from it), normal at Surface.parameter."""
+    import FreeCAD
+    import Part
+    h = 1904.9886655946982 / 100
+    shape = bc.read_shape(PS)
+    faces = shape.Faces
+    r = pm.mesh_shape(PS, size=h)
+    P, t, tf = r.nodes, r.triangles, r.triangle_face
+    flipped, worst = [], 180.0
+    for k in range(len(t)):
+        tri = P[t[k]]
+        c = tri.mean(0)
+        f = faces[int(tf[k]) - 1]
+        v = Part.Vertex(FreeCAD.Vector(*c))
+        if v.distToShape(f)[0] > 0.05 * h:
+            f = min(faces, key=lambda g: v.distToShape(g)[0])
+        u, w = f.Surface.parameter(FreeCAD.Vector(*c))
+        n = f.normalAt(u, w)
+        if np.dot(np.cross(tri[1] - tri[0], tri[2] - tri[0]), [n.x, n.y, n.z]) < 0:
+            flipped.append((k, int(tf[k])))
+        for i in range(3):
+            a, b = tri[(i + 1) % 3] - tri[i], tri[(i + 2) % 3] - tri[i]
+            worst = min(worst, np.degrees(np.arccos(np.clip(np.dot(a, b) / np.linalg.norm(a) / np.linalg.norm(b), -1, 1))))
+    assert flipped == [], flipped  # before: 5, one per blade tip (Faces 7, 10, 12, 14, 16)
+    assert worst > 5, worst  # measured 6.94 degrees; before 3.29 (the caps)
     assert edge_uses(r).max() == 2 and edge_uses(r).min() == 2, "conformal and closed"

@@ -49,6 +49,21 @@ bool Optimizer::valid(int ia, int ib, int ic) const {
   return true;
 }
 
+bool Optimizer::facesAtCentroid(int ia, int ib, int ic) const {
+  const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
+  if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
+  const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
+  const double ln = norm(n);
+  if (!(ln > 0)) return false;
+  for (const TriVertex* v : {&a, &b, &c})
+    if (norm2(v->normal) > 0 && dot(n, v->normal) < 0) return false;
+  Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
+  Vec3 foot, nf;
+  if (!C_.project((1.0 / 3) * (a.xyz + b.xyz + c.xyz), s, foot)) return false;
+  if (!C_.surf.normal(C_.toParam(s), nf)) return false;
+  return dot(n, nf) >= 0.2 * ln;
+}
+
 double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside) const {
   if (footOutside) *footOutside = false;
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
@@ -641,7 +656,7 @@ int Optimizer::splitEdge(int t, int i, bool keepFacing) {
   return v;
 }
 
-bool Optimizer::collapse(int t, int i) {
+bool Optimizer::collapse(int t, int i, bool centroidFacing) {
   // collapse edge i of t = (a -> b), where a = v[nx(i)] must be free; b may be anything
   Triangle& tr = T_.tris[t];
   const int a = tr.v[nx(i)], b = tr.v[pv(i)];
@@ -682,7 +697,7 @@ bool Optimizer::collapse(int t, int i) {
     if (k == 0) v0 = b;
     if (k == 1) v1 = b;
     if (k == 2) v2 = b;
-    if (!valid(v0, v1, v2)) return false;
+    if (!valid(v0, v1, v2) && !(centroidFacing && facesAtCentroid(v0, v1, v2))) return false;
     if (deviationBounded() && !deviationOk(v0, v1, v2, 0)) return false;
   }
   // relink around the two dying triangles
@@ -1052,7 +1067,7 @@ bool Optimizer::collapseApex(int t) {
         ii = T_.edgeTo(tt, t);
         if (ii < 0 || T_.tris[tt].v[nx(ii)] != vk) continue;
       }
-      if (collapse(tt, ii)) return true;
+      if (collapse(tt, ii, true)) return true;
     }
   }
   return false;

@@ -75,7 +75,9 @@ class Optimizer {
   /// Collapses the free vertex at the largest angle of every triangle with an angle below 30
   /// degrees onto a neighbour (shorter edge first) when the ring stays valid. Returns the number.
   int collapsePoorApexes();
-  /// collapsePoorApexes() for one triangle; true when a vertex was collapsed.
+  /// collapsePoorApexes() for one triangle; true when a vertex was collapsed. The triangles left
+  /// need only face like the surface at their centroid (collapse(t, i, true)); the caller keeps
+  /// the result only when the poor triangles around drop.
   bool collapseApex(int t);
   /// Splits the longest free edge of t; returns the new vertex or -1.
   int splitLongestFree(int t);
@@ -130,7 +132,14 @@ class Optimizer {
   /// Moves vertex v (whose ring is ring_) towards goal, then halfway, keeping the first position
   /// where the ring is valid and accept(its stats) holds; false, v unchanged, otherwise.
   bool tryMove(int v, Vec3 goal, const std::function<bool(const RingStats&)>& accept);
-  bool collapse(int t, int i);
+  /// Collapses edge i of t onto its far vertex. The relabelled triangles must be valid(); with
+  /// centroidFacing, facesAtCentroid() is enough (collapseApex: a cap across a thin nose).
+  bool collapse(int t, int i, bool centroidFacing = false);
+  /// Valid in (u,v), facing away from no vertex normal, and facing like the surface (within
+  /// ~78 degrees) at the projection of its centroid. A triangle on a blade's seam, across a nose
+  /// much thinner than itself, makes 80-90 degrees with the seam's normals whatever its shape,
+  /// so valid() leaves only caps lying inside the blade there (propeller_and_shaft d/100).
+  bool facesAtCentroid(int a, int b, int c) const;
   bool deviationOk(int a, int b, int c, double allowed) const;
   /// Flipping edge (b,c) of triangles (a,b,c) and (d,c,b) into (a,b,d), (a,d,c) keeps both valid,
   /// does not fold the pair beyond the crease guard (10 degrees, or its present fold) and keeps
