@@ -32,36 +32,41 @@ bool facesAway(const TriVertex& p, const TriVertex& q, const TriVertex& r) {
 }
 }  // namespace
 
+namespace {
+// kFacing: the cosine a triangle's normal must keep with a surface normal (~78 degrees)
+constexpr double kFacing = 0.2;
+// the normal of triangle (a,b,c) makes a cosine of at least minCos with every vertex normal
+// (vertices without one do not count); false for a degenerate triangle. n: its unnormalised normal.
+bool facesVertexNormals(const TriVertex& a, const TriVertex& b, const TriVertex& c, double minCos, Vec3& n) {
+  n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
+  const double ln = norm(n);
+  if (!(ln > 0)) return false;
+  for (const TriVertex* v : {&a, &b, &c})
+    if (norm2(v->normal) > 0 && dot(n, v->normal) < minCos * ln) return false;
+  return true;
+}
+}  // namespace
+
 bool Optimizer::valid(int ia, int ib, int ic) const {
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
   if ((a.flags | b.flags | c.flags) & VF_POLE) {
     if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return true;
   }
-  const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
-  const double ln = norm(n);
-  if (!(ln > 0)) return false;
-  // the triangle must face like the surface at each vertex (allowing curvature: > ~78 degrees fails)
-  for (const TriVertex* v : {&a, &b, &c}) {
-    if (norm2(v->normal) == 0) continue;
-    if (dot(n, v->normal) < 0.2 * ln) return false;
-  }
-  return true;
+  // the triangle must face like the surface at each vertex (allowing curvature)
+  Vec3 n;
+  return facesVertexNormals(a, b, c, kFacing, n);
 }
 
 bool Optimizer::facesAtCentroid(int ia, int ib, int ic) const {
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
-  if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
-  const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
-  const double ln = norm(n);
-  if (!(ln > 0)) return false;
-  for (const TriVertex* v : {&a, &b, &c})
-    if (norm2(v->normal) > 0 && dot(n, v->normal) < 0) return false;
+  Vec3 n;
+  if (orient2d(a.uv, b.uv, c.uv) <= 0 || !facesVertexNormals(a, b, c, 0.0, n)) return false;
   Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
   Vec3 foot, nf;
   if (!C_.project((1.0 / 3) * (a.xyz + b.xyz + c.xyz), s, foot)) return false;
   if (!C_.surf.normal(C_.toParam(s), nf)) return false;
-  return dot(n, nf) >= 0.2 * ln;
+  return dot(n, nf) >= kFacing * norm(n);
 }
 
 double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside) const {
