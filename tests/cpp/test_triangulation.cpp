@@ -711,6 +711,61 @@ TEST(Triangulation, FlipAndFlipBack) {
   (void)refused;
 }
 
+TEST(Triangulation, InsertionValidityAndClearance) {
+  // For random points inside and on edges of a Delaunay triangulation: insertionIsValid agrees
+  // with inserting (every new triangle counter-clockwise); at a vertex, or on an edge other than
+  // the one named, it is false. insertionClearance is the distance to the nearest split corner.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0.05, 0.95), W(0.05, 0.95);
+  std::vector<Vec2> pts;
+  for (int i = 0; i < 60; ++i) pts.push_back({U(rng), U(rng)});
+  Triangulation T;
+  insertPoints(T, pts);
+  for (TriVertex& v : T.verts) v.xyz = {v.uv.x, v.uv.y, 0.0};
+  int checked = 0, onEdge = 0, offEdge = 0;
+  for (int t = 0; t < (int)T.tris.size(); ++t) {
+    const Triangle& tr = T.tris[t];
+    if (tr.dead) continue;
+    const Vec2 &a = T.verts[tr.v[0]].uv, &b = T.verts[tr.v[1]].uv, &c = T.verts[tr.v[2]].uv;
+    if (orient2d(a, b, c) <= 0) continue;
+    // inside: valid; clearance = nearest of the three corners
+    const double w0 = W(rng), w1 = W(rng) * (1 - w0);
+    const Vec2 p = a + w1 * (b - a) + (1 - w0 - w1) * (c - a);
+    if (orient2d(a, b, p) > 0 && orient2d(b, c, p) > 0 && orient2d(c, a, p) > 0) {
+      EXPECT_TRUE(T.insertionIsValid(p, t, -1));
+      const Vec3 x{p.x, p.y, 0.0};
+      EXPECT_NEAR(T.insertionClearance(x, t, -1),
+                  std::min({norm(p - a), norm(p - b), norm(p - c)}), 1e-15);
+      ++checked;
+    }
+    // at a corner: never valid, inside or on either edge through it
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 q = T.verts[tr.v[k]].uv;
+      EXPECT_FALSE(T.insertionIsValid(q, t, -1));
+      EXPECT_FALSE(T.insertionIsValid(q, t, nx(k)));
+      EXPECT_FALSE(T.insertionIsValid(q, t, pv(k)));
+      EXPECT_EQ(T.insertionClearance({q.x, q.y, 0.0}, t, -1), 0.0);
+    }
+    // the midpoint of edge 0 (b-c), rounded: exactly on the edge or just off it (the case that
+    // stacked coincident nodes on propeller_and_shaft). As an interior point it is valid only
+    // when strictly inside; on the edge when the four new triangles are counter-clockwise.
+    const Vec2 m = 0.5 * (b + c);
+    EXPECT_EQ(T.insertionIsValid(m, t, -1), orient2d(a, b, m) > 0 && orient2d(b, c, m) > 0 && orient2d(c, a, m) > 0);
+    ++(orient2d(b, c, m) == 0 ? onEdge : offEdge);
+    if (orient2d(b, c, m) == 0) EXPECT_FALSE(T.insertionIsValid(m, t, 1));
+    const int u = tr.n[0];
+    if (u >= 0 && orient2d(b, c, m) == 0 && orient2d(a, b, m) > 0 && orient2d(c, a, m) > 0) {
+      const Vec2& d = T.verts[T.tris[u].v[T.edgeTo(u, t)]].uv;
+      EXPECT_EQ(T.insertionIsValid(m, t, 0), orient2d(d, c, m) > 0 && orient2d(d, m, b) > 0);
+      EXPECT_NEAR(T.insertionClearance({m.x, m.y, 0.0}, t, 0),
+                  std::min({norm(m - a), norm(m - b), norm(m - c), norm(m - d)}), 1e-15);
+    }
+  }
+  EXPECT_GT(checked, 50);
+  EXPECT_GT(onEdge, 10);
+  EXPECT_GT(offEdge, 10);
+}
+
 TEST(Triangulation, RingsAreCounterClockwise) {
   std::mt19937 rng(77);
   std::uniform_real_distribution<double> U(0.02, 0.98);

@@ -95,7 +95,8 @@ class Frontal {
       }
       int onEdge = -1;
       int where = T_.locate(s, t, &onEdge, Triangulation::kLocalWalk);
-      if (where < 0 || (onEdge >= 0 && T_.isConstrained(where, onEdge)) || tooClose(where, p)) {
+      if (where < 0 || (onEdge >= 0 && T_.isConstrained(where, onEdge)) || !T_.insertionIsValid(s, where, onEdge) ||
+          tooClose(where, p)) {
         ++rejected;
         forceGood(t);
         continue;
@@ -320,8 +321,12 @@ int refineFolded(Triangulation& T, const SurfaceContext& C) {
       const Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
       int e = -1;
       const int where = T.locate(s, t, &e, Triangulation::kLocalWalk);
-      if (where < 0 || (e >= 0 && T.isConstrained(where, e)) || !C.inDomain(s)) continue;
+      if (where < 0 || (e >= 0 && T.isConstrained(where, e)) || !T.insertionIsValid(s, where, e) || !C.inDomain(s))
+        continue;
       const TriVertex m = C.makeVertex(s);
+      // not on a corner in 3D (a strongly uneven parametrisation can put it there)
+      if (T.insertionClearance(m.xyz, where, e) < 0.01 * std::max({dist(a.xyz, b.xyz), dist(b.xyz, c.xyz), dist(c.xyz, a.xyz)}))
+        continue;
       // Not where the fold comes from a boundary segment of the triangle, i.e. where the
       // triangle the centroid would stand on that segment is no better: when the segment's chord
       // cuts through a strongly curved corner (a blade tip of radius ~1 at size 9.5) every

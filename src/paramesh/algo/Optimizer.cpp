@@ -35,6 +35,11 @@ bool facesAway(const TriVertex& p, const TriVertex& q, const TriVertex& r) {
 namespace {
 // kFacing: the cosine a triangle's normal must keep with a surface normal (~78 degrees)
 constexpr double kFacing = 0.2;
+// a split point must lie at least this share of the edge's 3D length from either end
+constexpr double kMinSplitShare = 0.1;
+// and any inserted point this share of the split edge's (or triangle's longest edge's) length
+// from every corner of the triangles it splits
+constexpr double kMinClearance = 0.01;
 // the normal of triangle (a,b,c) makes a cosine of at least minCos with every vertex normal
 // (vertices without one do not count); false for a degenerate triangle. n: its unnormalised normal.
 bool facesVertexNormals(const TriVertex& a, const TriVertex& b, const TriVertex& c, double minCos, Vec3& n) {
@@ -181,8 +186,13 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
       if (!C_.inDomain(s0)) continue;
       int e = -1;
       const int where = T_.locate(s0, t, &e, Triangulation::kLocalWalk);
-      if (where < 0 || (e >= 0 && T_.isConstrained(where, e))) continue;
+      if (where < 0 || (e >= 0 && T_.isConstrained(where, e)) || !T_.insertionIsValid(s0, where, e)) continue;
       TriVertex P = C_.makeVertex(s0);
+      {
+        const Vec3 &A = T_.verts[tr.v[0]].xyz, &B = T_.verts[tr.v[1]].xyz, &Cc = T_.verts[tr.v[2]].xyz;
+        if (T_.insertionClearance(P.xyz, where, e) < kMinClearance * std::max({dist(A, B), dist(B, Cc), dist(Cc, A)}))
+          continue;
+      }
       if (e < 0) {  // as for the splits: no new triangle facing away from the surface
         const Triangle& W = T_.tris[where];
         const TriVertex &A = T_.verts[W.v[0]], &B = T_.verts[W.v[1]], &D = T_.verts[W.v[2]];
@@ -619,31 +629,38 @@ int Optimizer::splitEdge(int t, int i, bool keepFacing) {
   const int a = tr.v[nx(i)], b = tr.v[pv(i)], c = tr.v[i], u = tr.n[i];
   const Vec2 m = 0.5 * (T_.verts[a].uv + T_.verts[b].uv);
   if (!C_.inDomain(m)) return -1;
+  // The new triangles (c, a, m), (c, m, b) and, across the edge, (d, b, m), (d, m, a) must be
+  // valid in (u,v) (exact orient2d). Even the (u,v) midpoint can fail: where a swap has rebuilt
+  // the edge over the vertex an earlier split put at that very midpoint (a triangle a-m-b of
+  // rounding-error area in (u,v), valid in 3D on a strongly folded surface), the split would put
+  // a second vertex on the first (propeller_and_shaft's blade folds, --curvature-angle 10).
+  if (!T_.insertionIsValid(m, t, i)) return -1;
   TriVertex nv = C_.makeVertex(m);
-  // the new triangles (c, a, m), (c, m, b) and, across the edge, (d, b, m), (d, m, a)
   int d = -1;
   if (u >= 0)
     for (int k = 0; k < 3; ++k)
       if (T_.tris[u].v[k] != a && T_.tris[u].v[k] != b) d = T_.tris[u].v[k];
   // the 3D midpoint of the chord, projected, is a better split point on curved faces: use it
-  // when it keeps the new triangles valid in (u,v) (orient2d is exact: the same test as on the
-  // inserted vertex's ring)
+  // when it keeps the new triangles valid in (u,v) too
   if (!C_.planar) {
     Vec2 s = m;
     Vec3 p;
-    if (C_.project(0.5 * (T_.verts[a].xyz + T_.verts[b].xyz), s, p) && C_.inDomain(s)) {
-      const Vec2 &A = T_.verts[a].uv, &B = T_.verts[b].uv, &Cc = T_.verts[c].uv;
-      bool ok = orient2d(Cc, A, s) > 0 && orient2d(Cc, s, B) > 0;
-      if (ok && d >= 0) {
-        const Vec2& D = T_.verts[d].uv;
-        ok = orient2d(D, B, s) > 0 && orient2d(D, s, A) > 0;
-      }
-      if (ok) {
-        nv.uv = s;
-        nv.xyz = p;
-        C_.fill(nv);
-      }
+    if (C_.project(0.5 * (T_.verts[a].xyz + T_.verts[b].xyz), s, p) && C_.inDomain(s) &&
+        T_.insertionIsValid(s, t, i)) {
+      nv.uv = s;
+      nv.xyz = p;
+      C_.fill(nv);
     }
+  }
+  // Nor where the surface is so unevenly parametrised that the split point, in 3D, all but
+  // lands on an end of the edge (the edge would not get shorter, and the refinement that asked
+  // for the split would ask again) or on a vertex opposite: on propeller_and_shaft's blade folds
+  // (--curvature-angle 10) such splits stacked clusters of nodes within 1e-6 of each other
+  {
+    const double l = dist(T_.verts[a].xyz, T_.verts[b].xyz);
+    if (std::min(dist(nv.xyz, T_.verts[a].xyz), dist(nv.xyz, T_.verts[b].xyz)) < kMinSplitShare * l ||
+        T_.insertionClearance(nv.xyz, t, i) < kMinClearance * l)
+      return -1;
   }
   if (keepFacing) {
     // the split must not turn a triangle that faces like the surface into ones that face away

@@ -116,6 +116,34 @@ int Triangulation::locate(Vec2 p, int t, int* onEdge, int maxSteps) const {
   return -1;
 }
 
+bool Triangulation::insertionIsValid(Vec2 p, int t, int e) const {
+  if (t < 0 || tris[t].dead) return false;
+  const Triangle& T = tris[t];
+  if (e < 0) {
+    for (int i = 0; i < 3; ++i)
+      if (orient2d(verts[T.v[nx(i)]].uv, verts[T.v[pv(i)]].uv, p) <= 0) return false;
+    return true;
+  }
+  // the triangles (c, a, p), (c, p, b) of t and (d, b, p), (d, p, a) across the edge a-b
+  const Vec2 &a = verts[T.v[nx(e)]].uv, &b = verts[T.v[pv(e)]].uv, &c = verts[T.v[e]].uv;
+  if (orient2d(c, a, p) <= 0 || orient2d(c, p, b) <= 0) return false;
+  const int u = T.n[e];
+  if (u < 0) return true;
+  const int j = edgeTo(u, t);
+  if (j < 0) return false;
+  const Vec2& d = verts[tris[u].v[j]].uv;
+  return orient2d(d, b, p) > 0 && orient2d(d, p, a) > 0;
+}
+
+double Triangulation::insertionClearance(Vec3 x, int t, int e) const {
+  const Triangle& T = tris[t];
+  double best = std::min({dist(x, verts[T.v[0]].xyz), dist(x, verts[T.v[1]].xyz), dist(x, verts[T.v[2]].xyz)});
+  const int u = e >= 0 ? T.n[e] : -1;
+  const int j = u >= 0 ? edgeTo(u, t) : -1;
+  if (j >= 0) best = std::min(best, dist(x, verts[tris[u].v[j]].xyz));
+  return best;
+}
+
 bool Triangulation::flipIsValid(int t, int i) const {
   const Triangle& T = tris[t];
   int u = T.n[i];

@@ -95,6 +95,13 @@ class Triangulation {
   bool flip(int t, int i);
   /// True when flipping edge i of t keeps both triangles counter-clockwise (exact test).
   bool flipIsValid(int t, int i) const;
+  /// True when inserting a point at p into triangle t (e < 0) or on its edge e makes only
+  /// counter-clockwise triangles (exact test). False when p coincides with a vertex, or lies on a
+  /// triangle's edge other than e: the insertion would make a triangle of zero area in (u,v).
+  bool insertionIsValid(Vec2 p, int t, int e) const;
+  /// The 3D distance from x to the nearest corner of the triangles that inserting a point into
+  /// triangle t (e < 0) or on its edge e would split.
+  double insertionClearance(Vec3 x, int t, int e) const;
 
   /// Ordered ring of triangles around vertex v (counter-clockwise); *closed = false when v is on
   /// the triangulation boundary (then the ring starts at the boundary).
