@@ -126,6 +126,14 @@ struct Mesher::Impl {
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
   std::vector<std::string> edgeError_;         ///< per edge: why it could not be discretised ("" if it was)
+  /// The last discretisation's edge parameters (before createEdgeNodes): a nearest-face round
+  /// that leaves the size field as it was (local deviation bounds only) reuses them
+  struct EdgeParams {
+    bool valid = false;
+    std::vector<std::vector<double>> ts;
+    std::vector<char> degen;
+    std::vector<std::string> errors;
+  } lastEdges_;
   /// The previous meshing round of the nearest-face check: a face whose edges kept their nodes
   /// and that no new size source reaches keeps its mesh (the size field there is unchanged, and
   /// meshing a face is deterministic: re-meshing it would give the same elements).
@@ -548,7 +556,14 @@ struct Mesher::Impl {
     if (p.staggerNarrowGaps && blLaws.empty())
       refineStage("narrow gaps", [&] { return staggerNarrowGaps(ts, degen); });
     if (blLaws.empty()) refineStage("corner spacing", [&] { return matchCornerSegments(ts, degen); });
+    lastEdges_ = {true, ts, degen, edgeError_};
     createEdgeNodes(ts, degen);
+  }
+
+  /// The edge nodes again from the last discretisation (the size field has not changed since).
+  void reuseEdges() {
+    edgeError_ = lastEdges_.errors;
+    createEdgeNodes(lastEdges_.ts, lastEdges_.degen);
   }
 
   /// Two edges joining the same two vertices must not both be a single chord.
@@ -1850,11 +1865,16 @@ MeshOutput Mesher::runUnbudgeted() {
   std::vector<SizeSource> extra;
   std::unique_ptr<Impl::MeshState> unrefined;
   double predictedGrowth = -1;  // set when a next round was predicted over the budget
+  bool sameField = false;       // this round has the last round's size field: its edges too
   for (int round = 0;; ++round) {
     d.progress.report(0.05, "edges");
     {
       Timer te;
-      d.discretizeEdges();
+      if (sameField && d.lastEdges_.valid)
+        d.reuseEdges();
+      else
+        d.discretizeEdges();
+      sameField = false;
       d.stage("edges", te.seconds());
     }
     {
@@ -1904,6 +1924,7 @@ MeshOutput Mesher::runUnbudgeted() {
     if (src.empty()) {  // zones only: the same field and edges, the zoned faces meshed again
       d.roundSources_.clear();
       d.resetMesh();
+      sameField = true;
       continue;
     }
     extra.insert(extra.end(), src.begin(), src.end());
