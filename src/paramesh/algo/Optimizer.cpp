@@ -267,7 +267,10 @@ int Optimizer::swapPass() {
       if (!flipAllowed(a, b, c, d)) continue;
       if (T_.flip(t, i)) {
         q[t] = q[u] = std::numeric_limits<double>::quiet_NaN();
-        for (int v : {a, b, c, d}) addToRegion(v);
+        for (int v : {a, b, c, d}) {
+          addToRegion(v);
+          touch(v);
+        }
         ++flips;
         i = -1;  // triangle t changed: rescan its edges
       }
@@ -340,10 +343,13 @@ bool Optimizer::movableWithRing(int v) {
   return closed && ring_.size() >= 3;
 }
 
-int Optimizer::smoothPass() {
+int Optimizer::smoothPass() { return smoothPassOver(nullptr); }
+
+int Optimizer::smoothPassOver(std::vector<char>* active) {
   int moved = 0;
   for (int v = 0; v < (int)T_.verts.size(); ++v) {
     poll(v);
+    if (active && v < (int)active->size() && !(*active)[v]) continue;
     if (!inRegion(v) || !movableWithRing(v)) continue;
     const RingStats r0 = ringStats();
     // the ring's worst triangle gets better, or the ring gets better on average while its worst
@@ -351,8 +357,20 @@ int Optimizer::smoothPass() {
     if (tryMove(v, ringApexMean(v), [&](const RingStats& r1) {
           return r1.minQ > r0.minQ + 1e-9 ||
                  (r1.sumQ > r0.sumQ + 1e-9 && r1.minQ >= std::min(r0.minQ, 0.8) * 0.98 && r1.minQ > 0.8 * 0.98);
-        }))
+        })) {
       ++moved;
+      if (trackTouched_) {
+        // for the next pass, and for the rest of this one (a neighbour after v in the order
+        // now sees a ring it has not been tried on)
+        touch(v);
+        for (int t : ring_)
+          for (int k = 0; k < 3; ++k) {
+            const int w = T_.tris[t].v[k];
+            touch(w);
+            if (active && w < (int)active->size()) (*active)[w] = 1;
+          }
+      }
+    }
   }
   return moved;
 }
@@ -1099,11 +1117,19 @@ void Optimizer::run(int passes) {
   if (passes <= 0) return;
   splitPass(1.6);
   collapsePass(0.55, 1.3);
+  // the first smoothing pass tries every vertex, the next ones those touched since
+  touched_.assign(T_.verts.size(), 1);
+  trackTouched_ = true;
+  std::vector<char> active;
   for (int p = 0; p < passes; ++p) {
     int f = swapPass();
-    int m = smoothPass();
+    active.swap(touched_);
+    touched_.assign(T_.verts.size(), 0);
+    int m = smoothPassOver(&active);
     if (f == 0 && m == 0) break;
   }
+  trackTouched_ = false;
+  touched_.clear();
   swapPass();
   repairFrontApexes(0.8);
 }

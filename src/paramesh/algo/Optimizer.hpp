@@ -161,6 +161,17 @@ class Optimizer {
   Triangulation& T_;
   const SurfaceContext& C_;
   std::vector<int> ring_;
+  /// run()'s passes: the vertices whose ring moved or changed since the last smoothing pass
+  /// (a flip marks its four vertices, a move the vertex and its link); the next smoothing pass
+  /// tries those only, since any other would be tried on exactly what was refused before
+  std::vector<char> touched_;
+  bool trackTouched_ = false;
+  void touch(int v) {
+    if (trackTouched_ && v < (int)touched_.size()) touched_[v] = 1;
+  }
+  /// smoothPass over the vertices marked in active only (nullptr: all); a move marks its link
+  /// in active too
+  int smoothPassOver(std::vector<char>* active);
   double maxDev_ = 0;    ///< absolute deviation bound; 0: none
   double devRatio_ = 0;  ///< deviation bound relative to the mean edge length; 0: none
   std::vector<DeviationZone> zones_;  ///< local deviation bounds
