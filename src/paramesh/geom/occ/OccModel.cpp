@@ -49,6 +49,7 @@
 #include <streambuf>
 #include <mutex>
 #include <sstream>
+#include <string>
 
 #include "paramesh/util/Error.hpp"
 
@@ -167,11 +168,22 @@ class OccPCurve final : public IPCurve {
   Handle(Geom2d_Curve) c_;
 };
 
+/// A p-curve as BRep_Tool::CurveOnSurface gave it (null: none), or why it could not: computed
+/// once per edge use. On a plane without a stored p-curve OpenCASCADE projects the 3D curve on
+/// every call (BRep_Tool::CurveOnPlane), and the face boundaries are built several times (the
+/// narrow-gap stage, then each nearest-face round).
+struct PCurveSlot {
+  bool done = false;
+  Handle(Geom2d_Curve) curve;
+  std::string error;
+};
+
 struct FaceData {
   TopoDS_Face face;  // as stored in the map (orientation of first occurrence)
   std::vector<Wire> wires;
   std::vector<std::vector<TopoDS_Edge>> oriented;  // oriented edge per use, as explored from face
   int solid = -1;
+  mutable std::vector<std::vector<PCurveSlot>> pcurves;  // per wire and use (OccModel::pcurveMutex_)
 };
 
 class OccModel final : public IGeometryModel {
@@ -227,6 +239,7 @@ class OccModel final : public IGeometryModel {
           auto& ef = edgeFaces_[u.edge];
           if (std::find(ef.begin(), ef.end(), f - 1) == ef.end()) ef.push_back(f - 1);
         }
+        fd.pcurves.emplace_back(oriented.size());
         fd.wires.push_back(std::move(wire));
         fd.oriented.push_back(std::move(oriented));
       }
@@ -287,16 +300,28 @@ class OccModel final : public IGeometryModel {
   bool faceReversed(int f) const override { return faceData_[f].face.Orientation() == TopAbs_REVERSED; }
   const std::vector<Wire>& faceWires(int f) const override { return faceData_[f].wires; }
   std::unique_ptr<IPCurve> makePCurve(int f, int wire, int use) const override {
-    try {
-      const FaceData& fd = faceData_[f];
-      double a, b;
-      Handle(Geom2d_Curve) c = BRep_Tool::CurveOnSurface(fd.oriented[wire][use], fd.face, a, b);
-      if (c.IsNull()) return nullptr;
-      return std::make_unique<OccPCurve>(c);
-    } catch (const Standard_Failure& x) {
-      throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot read a p-curve of its wire " +
-                       std::to_string(wire + 1) + " (" + describe(x) + ")");
+    const FaceData& fd = faceData_[f];
+    PCurveSlot got;
+    {
+      std::lock_guard<std::mutex> lock(pcurveMutex_);
+      got = fd.pcurves[wire][use];
     }
+    if (!got.done) {
+      got.done = true;
+      try {
+        double a, b;
+        got.curve = BRep_Tool::CurveOnSurface(fd.oriented[wire][use], fd.face, a, b);
+      } catch (const Standard_Failure& x) {
+        got.error = "Face" + std::to_string(f + 1) + ": OpenCASCADE cannot read a p-curve of its wire " +
+                    std::to_string(wire + 1) + " (" + describe(x) + ")";
+      }
+      // two threads may both compute it: the same curve, kept once
+      std::lock_guard<std::mutex> lock(pcurveMutex_);
+      if (!fd.pcurves[wire][use].done) fd.pcurves[wire][use] = got;
+    }
+    if (!got.error.empty()) throw InputError(got.error);
+    if (got.curve.IsNull()) return nullptr;
+    return std::make_unique<OccPCurve>(got.curve);
   }
   double faceTolerance(int f) const override { return BRep_Tool::Tolerance(faceData_[f].face); }
   int faceSolid(int f) const override { return faceData_[f].solid; }
@@ -316,6 +341,7 @@ class OccModel final : public IGeometryModel {
   std::vector<std::string> readWarnings_;
   TopTools_IndexedMapOfShape faces_, edges_, vertices_, solids_;
   std::vector<FaceData> faceData_;
+  mutable std::mutex pcurveMutex_;  // guards FaceData::pcurves
   std::vector<std::vector<int>> edgeFaces_;
   Box3 box_;
 };
