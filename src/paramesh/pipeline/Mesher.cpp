@@ -378,8 +378,9 @@ struct Mesher::Impl {
       edgeError_[e] = edgeFailure(body);
       if (!edgeError_[e].empty()) ts[e].clear();
     };
-    auto discretizeAll = [&]() {
-    parallelFor(ne, threads, [&](int e) { discretizeOne(e, [&] {
+    // every edge, or those marked in only
+    auto discretizeAll = [&](const std::vector<char>* only) {
+    parallelFor(ne, threads, [&](int e) { if (only && !(*only)[e]) return; discretizeOne(e, [&] {
       progress.poll();
       double t0, t1;
       model.edgeRange(e, t0, t1);
@@ -413,7 +414,7 @@ struct Mesher::Impl {
       ts[e] = discretizeCurve(cs, f, closed ? 3 : 1, kPi / 3.0);
     }); });
     };
-    discretizeAll();
+    discretizeAll(nullptr);
     // CAD edges much shorter than the size field, in chains (a finely detailed boundary) or split
     // into 3+ segments by the turning limit (tight arcs), become size sources at their segment
     // lengths, and the edges are discretised again: the neighbouring edges and the face interiors
@@ -524,7 +525,50 @@ struct Mesher::Impl {
         }
       if (added) {
         field.build();
-        discretizeAll();
+        // again only the edges the new sources reach: a source of size h changes the field within
+        // (hmax - h) / slope of it, and an edge's discretisation queries the field on its curve
+        // only (within one segment of its nodes' box)
+        std::vector<const SizeSource*> news;
+        for (const auto& v : found)
+          for (const SizeSource& s : v) news.push_back(&s);
+        std::vector<double> reach(news.size());
+        double rmax = 0;
+        for (size_t i = 0; i < news.size() && field.slope() > 0; ++i) {
+          reach[i] = (field.hmax() - news[i]->h) / field.slope();
+          rmax = std::max(rmax, reach[i]);
+        }
+        BoxGrid near(std::isfinite(rmax) ? std::max(rmax, 1e-300) : 1.0);
+        for (size_t i = 0; i < news.size() && field.slope() > 0; ++i) {
+          const Vec3 r{reach[i], reach[i], reach[i]};
+          near.add((int)i, news[i]->p - r, news[i]->p + r);
+        }
+        std::vector<char> redo(ne, field.slope() > 0 ? 0 : 1);  // no slope: a source reaches everywhere
+        for (int e = 0; e < ne && field.slope() > 0; ++e) {
+          if (same.edgeRep[e] != e || degen[e] || pts[e].empty()) {
+            redo[e] = pts[e].empty() && same.edgeRep[e] == e && !degen[e];  // no nodes to bound it: redo
+            continue;
+          }
+          Box3 b;
+          double seg = 0;
+          for (size_t i = 0; i < pts[e].size(); ++i) {
+            b.add(pts[e][i]);
+            if (i) seg = std::max(seg, dist(pts[e][i - 1], pts[e][i]));
+          }
+          for (int k = 0; k < 3; ++k) {
+            b.lo[k] -= 2 * seg;
+            b.hi[k] += 2 * seg;
+          }
+          near.queryBox(b.lo, b.hi, [&](int i) {
+            if (redo[e]) return;
+            double d2 = 0;
+            for (int k = 0; k < 3; ++k) {
+              const double x = news[i]->p[k], q = std::max({b.lo[k] - x, 0.0, x - b.hi[k]});
+              d2 += q * q;
+            }
+            redo[e] = d2 < reach[i] * reach[i];
+          });
+        }
+        discretizeAll(&redo);
       }
       // An edge closing a strip a few elements wide ends the rows of triangles that grow from the
       // strip's sides: rows of equilateral triangles are 0.87 h high, so its segments are too
