@@ -53,6 +53,16 @@ def run_ours(model, h, out, report, threads, extra, exe):
             'failed_faces': [f['name'] for f in rep.get('faces', []) if f.get('status') != 'ok']}
 
 
+def fastest(run, n):
+    """The result of run() with the smallest mesh_s over n calls (a failed call never wins)."""
+    best = None
+    for _ in range(max(1, n)):
+        r = run()
+        if best is None or (r.get('mesh_s') is not None and best.get('mesh_s') is not None and r['mesh_s'] < best['mesh_s']):
+            best = r
+    return best
+
+
 def run_gmsh(model, h, out, extra_curv):
     cmd = [PY, os.path.join(TOOLS, 'gmsh_baseline.py'), model, repr(h), out, '--algo', 'frontal']
     if extra_curv:
@@ -99,22 +109,15 @@ def main():
             tag = f'{name}_{div}'
             ours_msh = os.path.join(a.out, f'{tag}.paramesh.msh')
             rep = os.path.join(a.out, f'{tag}.paramesh.json')
-            o = None
-            for _ in range(max(1, a.repeat)):
-                r = run_ours(model, h, ours_msh, rep, a.threads, a.extra.split() if a.extra else [], a.paramesh)
-                if o is None or (r.get('mesh_s') is not None and o.get('mesh_s') is not None and r['mesh_s'] < o['mesh_s']):
-                    o = r
+            o = fastest(lambda: run_ours(model, h, ours_msh, rep, a.threads, a.extra.split() if a.extra else [],
+                                         a.paramesh), a.repeat)
             oc = meshcheck(model, ours_msh, h) if (not a.no_check and os.path.exists(ours_msh)) else {}
             g, gc = {}, {}
             if (name, div) in earlier:
                 g, gc = earlier[(name, div)]
             elif not a.no_gmsh:
                 gm = os.path.join(a.out, f'{tag}.gmsh.msh')
-                g = None
-                for _ in range(max(1, a.repeat)):
-                    r = run_gmsh(model, h, gm, 0)
-                    if g is None or (r.get('mesh_s') is not None and g.get('mesh_s') is not None and r['mesh_s'] < g['mesh_s']):
-                        g = r
+                g = fastest(lambda: run_gmsh(model, h, gm, 0), a.repeat)
                 gc = meshcheck(model, gm, h) if (not a.no_check and os.path.exists(gm)) else {}
             row = {'model': name, 'div': div, 'h': h, 'ours': o, 'ours_check': oc, 'gmsh': g, 'gmsh_check': gc}
             rows.append(row)

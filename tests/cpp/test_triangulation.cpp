@@ -752,7 +752,9 @@ TEST(Triangulation, InsertionValidityAndClearance) {
     const Vec2 m = 0.5 * (b + c);
     EXPECT_EQ(T.insertionIsValid(m, t, -1), orient2d(a, b, m) > 0 && orient2d(b, c, m) > 0 && orient2d(c, a, m) > 0);
     ++(orient2d(b, c, m) == 0 ? onEdge : offEdge);
-    if (orient2d(b, c, m) == 0) EXPECT_FALSE(T.insertionIsValid(m, t, 1));
+    if (orient2d(b, c, m) == 0) {
+      EXPECT_FALSE(T.insertionIsValid(m, t, 1));
+    }
     const int u = tr.n[0];
     if (u >= 0 && orient2d(b, c, m) == 0 && orient2d(a, b, m) > 0 && orient2d(c, a, m) > 0) {
       const Vec2& d = T.verts[T.tris[u].v[T.edgeTo(u, t)]].uv;

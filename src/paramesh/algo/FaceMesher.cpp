@@ -325,7 +325,8 @@ int refineFolded(Triangulation& T, const SurfaceContext& C) {
         continue;
       const TriVertex m = C.makeVertex(s);
       // not on a corner in 3D (a strongly uneven parametrisation can put it there)
-      if (T.insertionClearance(m.xyz, where, e) < 0.01 * std::max({dist(a.xyz, b.xyz), dist(b.xyz, c.xyz), dist(c.xyz, a.xyz)}))
+      if (T.insertionClearance(m.xyz, where, e) <
+          Triangulation::kInsertClearance * std::max({dist(a.xyz, b.xyz), dist(b.xyz, c.xyz), dist(c.xyz, a.xyz)}))
         continue;
       // Not where the fold comes from a boundary segment of the triangle, i.e. where the
       // triangle the centroid would stand on that segment is no better: when the segment's chord

@@ -37,9 +37,6 @@ namespace {
 constexpr double kFacing = 0.2;
 // a split point must lie at least this share of the edge's 3D length from either end
 constexpr double kMinSplitShare = 0.1;
-// and any inserted point this share of the split edge's (or triangle's longest edge's) length
-// from every corner of the triangles it splits
-constexpr double kMinClearance = 0.01;
 // the normal of triangle (a,b,c) makes a cosine of at least minCos with every vertex normal
 // (vertices without one do not count); false for a degenerate triangle. n: its unnormalised normal.
 bool facesVertexNormals(const TriVertex& a, const TriVertex& b, const TriVertex& c, double minCos, Vec3& n) {
@@ -190,7 +187,7 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
       TriVertex P = C_.makeVertex(s0);
       {
         const Vec3 &A = T_.verts[tr.v[0]].xyz, &B = T_.verts[tr.v[1]].xyz, &Cc = T_.verts[tr.v[2]].xyz;
-        if (T_.insertionClearance(P.xyz, where, e) < kMinClearance * std::max({dist(A, B), dist(B, Cc), dist(Cc, A)}))
+        if (T_.insertionClearance(P.xyz, where, e) < Triangulation::kInsertClearance * std::max({dist(A, B), dist(B, Cc), dist(Cc, A)}))
           continue;
       }
       if (e < 0) {  // as for the splits: no new triangle facing away from the surface
@@ -359,7 +356,7 @@ int Optimizer::smoothPassOver(std::vector<char>* active) {
                  (r1.sumQ > r0.sumQ + 1e-9 && r1.minQ >= std::min(r0.minQ, 0.8) * 0.98 && r1.minQ > 0.8 * 0.98);
         })) {
       ++moved;
-      if (trackTouched_) {
+      if (!touched_.empty()) {
         // for the next pass, and for the rest of this one (a neighbour after v in the order
         // now sees a ring it has not been tried on)
         touch(v);
@@ -677,7 +674,7 @@ int Optimizer::splitEdge(int t, int i, bool keepFacing) {
   {
     const double l = dist(T_.verts[a].xyz, T_.verts[b].xyz);
     if (std::min(dist(nv.xyz, T_.verts[a].xyz), dist(nv.xyz, T_.verts[b].xyz)) < kMinSplitShare * l ||
-        T_.insertionClearance(nv.xyz, t, i) < kMinClearance * l)
+        T_.insertionClearance(nv.xyz, t, i) < Triangulation::kInsertClearance * l)
       return -1;
   }
   if (keepFacing) {
@@ -1119,7 +1116,6 @@ void Optimizer::run(int passes) {
   collapsePass(0.55, 1.3);
   // the first smoothing pass tries every vertex, the next ones those touched since
   touched_.assign(T_.verts.size(), 1);
-  trackTouched_ = true;
   std::vector<char> active;
   for (int p = 0; p < passes; ++p) {
     int f = swapPass();
@@ -1128,7 +1124,6 @@ void Optimizer::run(int passes) {
     int m = smoothPassOver(&active);
     if (f == 0 && m == 0) break;
   }
-  trackTouched_ = false;
   touched_.clear();
   swapPass();
   repairFrontApexes(0.8);

@@ -161,13 +161,13 @@ class Optimizer {
   Triangulation& T_;
   const SurfaceContext& C_;
   std::vector<int> ring_;
-  /// run()'s passes: the vertices whose ring moved or changed since the last smoothing pass
-  /// (a flip marks its four vertices, a move the vertex and its link); the next smoothing pass
-  /// tries those only, since any other would be tried on exactly what was refused before
+  /// run()'s passes (empty outside them): the vertices whose ring moved or changed since the
+  /// last smoothing pass (a flip marks its four vertices, a move the vertex and its link); the
+  /// next smoothing pass tries those only, since any other would be tried on exactly what was
+  /// refused before
   std::vector<char> touched_;
-  bool trackTouched_ = false;
   void touch(int v) {
-    if (trackTouched_ && v < (int)touched_.size()) touched_[v] = 1;
+    if (v < (int)touched_.size()) touched_[v] = 1;
   }
   /// smoothPass over the vertices marked in active only (nullptr: all); a move marks its link
   /// in active too

@@ -102,6 +102,10 @@ class Triangulation {
   /// The 3D distance from x to the nearest corner of the triangles that inserting a point into
   /// triangle t (e < 0) or on its edge e would split.
   double insertionClearance(Vec3 x, int t, int e) const;
+  /// The refinements insert no point nearer a corner than this share of the split edge's (or
+  /// the refined triangle's longest edge's) 3D length: on a very unevenly parametrised surface a
+  /// (u,v) midpoint or centroid can land on a corner in 3D.
+  static constexpr double kInsertClearance = 0.01;
 
   /// Ordered ring of triangles around vertex v (counter-clockwise); *closed = false when v is on
   /// the triangulation boundary (then the ring starts at the boundary).

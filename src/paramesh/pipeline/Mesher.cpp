@@ -62,6 +62,43 @@ constexpr double kMaxCoordinate = 1e12;
 // fillets pulled % len OK from 90 to 79 at diagonal/100; at 1.6, 86)
 constexpr double kNearestFaceSlope = 0.6;
 constexpr double kPredictMargin = 1.5;
+
+/// Which boxes a set of size sources reaches: source i changes the size field within reach[i]
+/// of it (h + slope * d < hmax), nowhere else.
+class SourceReach {
+ public:
+  SourceReach(std::vector<Vec3> p, std::vector<double> reach)
+      : p_(std::move(p)), reach_(std::move(reach)), grid_(cellFor(reach_)) {
+    for (size_t i = 0; i < p_.size(); ++i) {
+      const Vec3 r{reach_[i], reach_[i], reach_[i]};
+      grid_.add((int)i, p_[i] - r, p_[i] + r);
+    }
+  }
+  /// True when some source lies nearer the box [lo, hi] than its reach (a point: lo = hi).
+  bool reaches(Vec3 lo, Vec3 hi) const {
+    bool hit = false;
+    grid_.queryBox(lo, hi, [&](int i) {
+      if (hit) return;
+      double d2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double q = std::max({lo[k] - p_[i][k], 0.0, p_[i][k] - hi[k]});
+        d2 += q * q;
+      }
+      hit = std::sqrt(d2) < reach_[i];
+    });
+    return hit;
+  }
+
+ private:
+  static double cellFor(const std::vector<double>& reach) {
+    double r = 0;
+    for (double x : reach) r = std::max(r, x);
+    return std::max(r, 1e-300);
+  }
+  std::vector<Vec3> p_;
+  std::vector<double> reach_;
+  BoxGrid grid_;
+};
 // the nearest-face check's local repairs: around a flagged triangle, centroids may lie off their
 // own surface at most this fraction of their distance to the other face's tangent plane (a
 // triangle is flagged beyond 1/1.1 = 0.91; propeller_and_shaft d/100 with 0.5, 0.7, 0.8: 2304,
@@ -525,27 +562,22 @@ struct Mesher::Impl {
         }
       if (added) {
         field.build();
-        // again only the edges the new sources reach: a source of size h changes the field within
-        // (hmax - h) / slope of it, and an edge's discretisation queries the field on its curve
-        // only (within one segment of its nodes' box)
-        std::vector<const SizeSource*> news;
+        // again only the edges the new sources reach (grading > 1: a source of size h changes the
+        // field within (hmax - h) / (grading - 1) of it); an edge's discretisation queries the
+        // field on its curve only, within two segments of its nodes' box
+        std::vector<Vec3> at;
+        std::vector<double> reach;
         for (const auto& v : found)
-          for (const SizeSource& s : v) news.push_back(&s);
-        std::vector<double> reach(news.size());
-        double rmax = 0;
-        for (size_t i = 0; i < news.size() && field.slope() > 0; ++i) {
-          reach[i] = (field.hmax() - news[i]->h) / field.slope();
-          rmax = std::max(rmax, reach[i]);
-        }
-        BoxGrid near(std::isfinite(rmax) ? std::max(rmax, 1e-300) : 1.0);
-        for (size_t i = 0; i < news.size() && field.slope() > 0; ++i) {
-          const Vec3 r{reach[i], reach[i], reach[i]};
-          near.add((int)i, news[i]->p - r, news[i]->p + r);
-        }
-        std::vector<char> redo(ne, field.slope() > 0 ? 0 : 1);  // no slope: a source reaches everywhere
-        for (int e = 0; e < ne && field.slope() > 0; ++e) {
-          if (same.edgeRep[e] != e || degen[e] || pts[e].empty()) {
-            redo[e] = pts[e].empty() && same.edgeRep[e] == e && !degen[e];  // no nodes to bound it: redo
+          for (const SizeSource& s : v) {
+            at.push_back(s.p);
+            reach.push_back((field.hmax() - s.h) / field.slope());
+          }
+        const SourceReach near(std::move(at), std::move(reach));
+        std::vector<char> redo(ne, 0);
+        for (int e = 0; e < ne; ++e) {
+          if (same.edgeRep[e] != e || degen[e]) continue;
+          if (pts[e].empty()) {  // no nodes to bound it
+            redo[e] = 1;
             continue;
           }
           Box3 b;
@@ -554,19 +586,8 @@ struct Mesher::Impl {
             b.add(pts[e][i]);
             if (i) seg = std::max(seg, dist(pts[e][i - 1], pts[e][i]));
           }
-          for (int k = 0; k < 3; ++k) {
-            b.lo[k] -= 2 * seg;
-            b.hi[k] += 2 * seg;
-          }
-          near.queryBox(b.lo, b.hi, [&](int i) {
-            if (redo[e]) return;
-            double d2 = 0;
-            for (int k = 0; k < 3; ++k) {
-              const double x = news[i]->p[k], q = std::max({b.lo[k] - x, 0.0, x - b.hi[k]});
-              d2 += q * q;
-            }
-            redo[e] = d2 < reach[i] * reach[i];
-          });
+          const Vec3 margin{2 * seg, 2 * seg, 2 * seg};
+          redo[e] = near.reaches(b.lo - margin, b.hi + margin);
         }
         discretizeAll(&redo);
       }
@@ -1643,17 +1664,13 @@ struct Mesher::Impl {
                     prev->edges[e].nodes.size() == edges[e].nodes.size();
     const double hmax = field.hmax();
     // the field is queried on the surface between the nodes too: one size of margin
-    std::vector<double> reach(roundSources_.size());
-    double rmax = 0;
-    for (size_t i = 0; i < reach.size(); ++i) {
-      reach[i] = (hmax - roundSources_[i].h) / kNearestFaceSlope + hmax;
-      rmax = std::max(rmax, reach[i]);
+    std::vector<Vec3> at;
+    std::vector<double> reach;
+    for (const SizeSource& src : roundSources_) {
+      at.push_back(src.p);
+      reach.push_back((hmax - src.h) / kNearestFaceSlope + hmax);
     }
-    BoxGrid near(std::max(rmax, 1e-300));
-    for (size_t i = 0; i < reach.size(); ++i) {
-      const Vec3 r{reach[i], reach[i], reach[i]};
-      near.add((int)i, roundSources_[i].p - r, roundSources_[i].p + r);
-    }
+    const SourceReach near(std::move(at), std::move(reach));
     int kept = 0;
     for (int f = 0; f < nf; ++f) {
       bool ok = !prev->points[f].empty() || !prev->reports[f].ok;
@@ -1662,7 +1679,7 @@ struct Mesher::Impl {
         for (const EdgeUse& u : w.uses) ok = ok && edgeSame[same.edgeRep[u.edge]];
       if (!ok) continue;
       for (const Vec3& x : prev->points[f]) {
-        near.queryBox(x, x, [&](int i) { ok = ok && !(dist(x, roundSources_[i].p) < reach[i]); });
+        ok = !near.reaches(x, x);
         if (!ok) break;
       }
       if (!ok) continue;
