@@ -247,6 +247,11 @@ int Optimizer::swapPass() {
     if (std::isnan(q[t])) q[t] = quality(t);
     return q[t];
   };
+  // An edge is seen from both of its triangles. Seen again from the later one, unflipped, with
+  // neither triangle changed since the earlier one's last scan, it would get the same answer:
+  // skip it. scanned[t]: the flip count when t's scan ended (-1: not scanned); changed[t]: the
+  // flip count of the flip that last rewrote t.
+  std::vector<int> scanned(T_.tris.size(), -1), changed(T_.tris.size(), 0);
   for (int t = 0; t < (int)T_.tris.size(); ++t) {
     poll(t);
     if (T_.tris[t].dead || !triInRegion(t)) continue;
@@ -254,6 +259,7 @@ int Optimizer::swapPass() {
       const Triangle& tr = T_.tris[t];
       const int u = tr.n[i];
       if (u < 0 || T_.isConstrained(t, i)) continue;
+      if (u < t && scanned[u] >= 0 && changed[u] <= scanned[u] && changed[t] <= scanned[u]) continue;
       const int j = T_.edgeTo(u, t);
       if (j < 0) continue;
       const int a = tr.v[i], b = tr.v[nx(i)], c = tr.v[pv(i)], d = T_.tris[u].v[j];
@@ -269,9 +275,11 @@ int Optimizer::swapPass() {
           touch(v);
         }
         ++flips;
+        changed[t] = changed[u] = flips;
         i = -1;  // triangle t changed: rescan its edges
       }
     }
+    scanned[t] = flips;
   }
   return flips;
 }
@@ -306,13 +314,28 @@ Vec3 Optimizer::ringApexMean(int v) const {
 }
 
 Optimizer::RingStats Optimizer::ringStats() const {
+  // quality(t) and sinMinAngleOf() in one pass over each triangle's sides (the same expressions,
+  // so the same values: the smoothing's hottest loop computed the lengths and the area twice)
   RingStats r;
   for (int t : ring_) {
-    const double q = quality(t);
+    const Triangle& R = T_.tris[t];
+    const TriVertex &A = T_.verts[R.v[0]], &B = T_.verts[R.v[1]], &Cc = T_.verts[R.v[2]];
+    const Vec3 &a = A.xyz, &b = B.xyz, &c = Cc.xyz;
+    const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
+    const double area2 = norm(cross(b - a, c - a));
+    double q;
+    if (((A.flags | B.flags | Cc.flags) & VF_POLE) &&
+        ((A.node >= 0 && (A.node == B.node || A.node == Cc.node)) || (B.node >= 0 && B.node == Cc.node))) {
+      q = 1.0;
+    } else {
+      const double den = (la + lb + lc) * la * lb * lc;
+      q = den > 0 ? 4.0 * area2 * area2 / den : 0.0;
+    }
     r.minQ = std::min(r.minQ, q);
     r.sumQ += q;
-    const Triangle& R = T_.tris[t];
-    r.minSin = std::min(r.minSin, sinMinAngleOf(R.v[0], R.v[1], R.v[2]));
+    const double mx = std::max({la, lb, lc}), mn = std::min({la, lb, lc});
+    const double mid = la + lb + lc - mx - mn;
+    r.minSin = std::min(r.minSin, mx > 0 && mid > 0 ? area2 / (mx * mid) : 0.0);
   }
   return r;
 }
