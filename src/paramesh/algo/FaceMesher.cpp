@@ -77,6 +77,7 @@ class Frontal {
       const Entry e = heap_.top();
       heap_.pop();
       const int t = e.t;
+      if (queued_[t] == e.stamp + 1) queued_[t] = 0;
       if (T_.tris[t].dead || stamp_[t] != e.stamp || good_[t]) continue;
       int edge = -1;
       if (!active(t, &edge)) continue;
@@ -131,7 +132,9 @@ class Frontal {
     double rho;
     int t;
     uint32_t stamp;
-    bool operator<(const Entry& o) const { return rho < o.rho; }
+    // the largest radius first; equal radii (congruent triangles of a structured start, or
+    // inverted ones at 1e300) by triangle index, not by wherever the heap happened to hold them
+    bool operator<(const Entry& o) const { return rho < o.rho || (rho == o.rho && t > o.t); }
   };
 
   void grow() {
@@ -140,6 +143,7 @@ class Frontal {
       rho_.resize(n, 1e300);
       good_.resize(n, 0);
       stamp_.resize(n, 0);
+      queued_.resize(n, 0);
     }
   }
 
@@ -193,7 +197,13 @@ class Frontal {
 
   void pushIfActive(int t) {
     if (T_.tris[t].dead) return;
-    if (active(t, nullptr)) heap_.push({rho_[t], t, stamp_[t]});
+    // an entry of t's current state already waiting in the heap would be popped the same
+    // (every push after an insertion offered each neighbour of a touched triangle again)
+    if (queued_[t] == stamp_[t] + 1) return;
+    if (active(t, nullptr)) {
+      heap_.push({rho_[t], t, stamp_[t]});
+      queued_[t] = stamp_[t] + 1;
+    }
   }
 
   /// The frontal point for front edge `edge` of t, in scaled uv (s) and 3D (p).
@@ -283,6 +293,7 @@ class Frontal {
   std::vector<double> rho_;
   std::vector<uint8_t> good_;
   std::vector<uint32_t> stamp_;
+  std::vector<uint32_t> queued_;  ///< stamp + 1 of t's entry waiting in the heap; 0: none
   std::priority_queue<Entry> heap_;
 };
 
