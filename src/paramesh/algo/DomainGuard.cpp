@@ -56,14 +56,25 @@ DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
   list_.resize(count.back());
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (int k = 0; k < (int)segs_.size(); ++k) forCells(segs_[k], [&](int c) { list_[fill[c]++] = k; });
-  // parity at the centre of each cell: sweep each row from the left with a horizontal ray
+  // parity at the centre of each cell: sweep each row from the left with a horizontal ray. Each
+  // segment is offered to the rows its y range spans (testing every segment against every row
+  // was O(segments^1.5): 2.8 % of nist_ctc_01 d/100's instructions)
   centreInside_.assign(nx_ * ny_, 0);
-  for (int j = 0; j < ny_; ++j) {
-    const double y = y0_ + (j + 0.5) * dy_;
-    std::vector<double> xs;
-    for (const Seg& s : segs_) {
-      if ((s.a.y > y) != (s.b.y > y)) xs.push_back(s.a.x + (y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y));
+  std::vector<std::vector<double>> rows(ny_);
+  auto rowY = [&](int j) { return y0_ + (j + 0.5) * dy_; };
+  for (const Seg& s : segs_) {
+    const double lo = std::min(s.a.y, s.b.y), hi = std::max(s.a.y, s.b.y);
+    const double f0 = std::floor((lo - y0_) / dy_ - 0.5) - 1, f1 = std::ceil((hi - y0_) / dy_ - 0.5) + 1;
+    const bool finite = std::isfinite(f0) && std::isfinite(f1);  // else every row, as before
+    const int j0 = finite ? (int)std::clamp(f0, 0.0, (double)ny_ - 1) : 0;
+    const int j1 = finite ? (int)std::clamp(f1, 0.0, (double)ny_ - 1) : ny_ - 1;
+    for (int j = j0; j <= j1; ++j) {
+      const double y = rowY(j);
+      if ((s.a.y > y) != (s.b.y > y)) rows[j].push_back(s.a.x + (y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y));
     }
+  }
+  for (int j = 0; j < ny_; ++j) {
+    std::vector<double>& xs = rows[j];
     std::sort(xs.begin(), xs.end());
     size_t k = 0;
     for (int i = 0; i < nx_; ++i) {
