@@ -63,11 +63,16 @@ DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
   std::vector<std::vector<double>> rows(ny_);
   auto rowY = [&](int j) { return y0_ + (j + 0.5) * dy_; };
   for (const Seg& s : segs_) {
-    const double lo = std::min(s.a.y, s.b.y), hi = std::max(s.a.y, s.b.y);
-    const double f0 = std::floor((lo - y0_) / dy_ - 0.5) - 1, f1 = std::ceil((hi - y0_) / dy_ - 0.5) + 1;
-    const bool finite = std::isfinite(f0) && std::isfinite(f1);  // else every row, as before
-    const int j0 = finite ? (int)std::clamp(f0, 0.0, (double)ny_ - 1) : 0;
-    const int j1 = finite ? (int)std::clamp(f1, 0.0, (double)ny_ - 1) : ny_ - 1;
+    int j0 = 0, j1 = ny_ - 1;  // a non-finite end: every row, as before
+    if (std::isfinite(s.a.y) && std::isfinite(s.b.y)) {
+      // the rows whose centre y_j lies in [lo, hi): estimated, then widened while the next row
+      // out still lies inside (y_j never decreases with j, rounded or not)
+      const double lo = std::min(s.a.y, s.b.y), hi = std::max(s.a.y, s.b.y);
+      j0 = (int)std::clamp(std::floor((lo - y0_) / dy_ - 0.5), 0.0, (double)ny_ - 1);
+      j1 = (int)std::clamp(std::ceil((hi - y0_) / dy_ - 0.5), 0.0, (double)ny_ - 1);
+      while (j0 > 0 && rowY(j0 - 1) >= lo) --j0;
+      while (j1 < ny_ - 1 && rowY(j1 + 1) < hi) ++j1;
+    }
     for (int j = j0; j <= j1; ++j) {
       const double y = rowY(j);
       if ((s.a.y > y) != (s.b.y > y)) rows[j].push_back(s.a.x + (y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y));

@@ -13,15 +13,20 @@ namespace paramesh {
 namespace {
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
-double sinMinAngle(Vec3 a, Vec3 b, Vec3 c);
+}  // namespace
+
+namespace {
+// a triangle with two corners on one pole node: collapsed in 3D by construction, not a defect
+bool poleCollapsed(const TriVertex& a, const TriVertex& b, const TriVertex& c) {
+  return ((a.flags | b.flags | c.flags) & VF_POLE) &&
+         ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node));
+}
 }  // namespace
 
 double Optimizer::quality(int t) const {
   const Triangle& tr = T_.tris[t];
   const TriVertex &a = T_.verts[tr.v[0]], &b = T_.verts[tr.v[1]], &c = T_.verts[tr.v[2]];
-  if ((a.flags | b.flags | c.flags) & VF_POLE) {
-    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return 1.0;
-  }
+  if (poleCollapsed(a, b, c)) return 1.0;
   return gamma3(a.xyz, b.xyz, c.xyz);
 }
 
@@ -52,9 +57,7 @@ bool facesVertexNormals(const TriVertex& a, const TriVertex& b, const TriVertex&
 bool Optimizer::valid(int ia, int ib, int ic) const {
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
-  if ((a.flags | b.flags | c.flags) & VF_POLE) {
-    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return true;
-  }
+  if (poleCollapsed(a, b, c)) return true;
   // the triangle must face like the surface at each vertex (allowing curvature)
   Vec3 n;
   return facesVertexNormals(a, b, c, kFacing, n);
@@ -248,9 +251,10 @@ int Optimizer::swapPass() {
     return q[t];
   };
   // An edge is seen from both of its triangles. Seen again from the later one, unflipped, with
-  // neither triangle changed since the earlier one's last scan, it would get the same answer:
-  // skip it. scanned[t]: the flip count when t's scan ended (-1: not scanned); changed[t]: the
-  // flip count of the flip that last rewrote t.
+  // neither triangle changed since the earlier one's last scan, it would get the same answer (up
+  // to rounding: from the other side the quad's corners are relabelled): skip it. scanned[t]: the
+  // flip count when t's scan ended (-1: not scanned yet, so every later triangle); changed[t]:
+  // the flip count of the flip that last rewrote t.
   std::vector<int> scanned(T_.tris.size(), -1), changed(T_.tris.size(), 0);
   for (int t = 0; t < (int)T_.tris.size(); ++t) {
     poll(t);
@@ -259,7 +263,7 @@ int Optimizer::swapPass() {
       const Triangle& tr = T_.tris[t];
       const int u = tr.n[i];
       if (u < 0 || T_.isConstrained(t, i)) continue;
-      if (u < t && scanned[u] >= 0 && changed[u] <= scanned[u] && changed[t] <= scanned[u]) continue;
+      if (std::max(changed[t], changed[u]) <= scanned[u]) continue;
       const int j = T_.edgeTo(u, t);
       if (j < 0) continue;
       const int a = tr.v[i], b = tr.v[nx(i)], c = tr.v[pv(i)], d = T_.tris[u].v[j];
@@ -314,28 +318,17 @@ Vec3 Optimizer::ringApexMean(int v) const {
 }
 
 Optimizer::RingStats Optimizer::ringStats() const {
-  // quality(t) and sinMinAngleOf() in one pass over each triangle's sides (the same expressions,
-  // so the same values: the smoothing's hottest loop computed the lengths and the area twice)
+  // quality(t) and the smallest angle's sine from one set of sides (the smoothing's hottest loop
+  // computed the lengths and the area twice)
   RingStats r;
   for (int t : ring_) {
     const Triangle& R = T_.tris[t];
     const TriVertex &A = T_.verts[R.v[0]], &B = T_.verts[R.v[1]], &Cc = T_.verts[R.v[2]];
-    const Vec3 &a = A.xyz, &b = B.xyz, &c = Cc.xyz;
-    const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
-    const double area2 = norm(cross(b - a, c - a));
-    double q;
-    if (((A.flags | B.flags | Cc.flags) & VF_POLE) &&
-        ((A.node >= 0 && (A.node == B.node || A.node == Cc.node)) || (B.node >= 0 && B.node == Cc.node))) {
-      q = 1.0;
-    } else {
-      const double den = (la + lb + lc) * la * lb * lc;
-      q = den > 0 ? 4.0 * area2 * area2 / den : 0.0;
-    }
+    const TriSides sides = triSides(A.xyz, B.xyz, Cc.xyz);
+    const double q = poleCollapsed(A, B, Cc) ? 1.0 : radiusRatio(sides);
     r.minQ = std::min(r.minQ, q);
     r.sumQ += q;
-    const double mx = std::max({la, lb, lc}), mn = std::min({la, lb, lc});
-    const double mid = la + lb + lc - mx - mn;
-    r.minSin = std::min(r.minSin, mx > 0 && mid > 0 ? area2 / (mx * mid) : 0.0);
+    r.minSin = std::min(r.minSin, sinMinAngle(sides));
   }
   return r;
 }
@@ -897,27 +890,12 @@ int Optimizer::repairFrontApexes(double ratio) {
   return moved;
 }
 
-namespace {
-/// sin of the smallest 3D angle of (a,b,c): 2 area / (product of the two longest sides)
-double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) {
-  const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
-  const double ar2 = norm(cross(b - a, c - a));
-  const double mx = std::max({la, lb, lc}), mn = std::min({la, lb, lc});
-  const double mid = la + lb + lc - mx - mn;
-  return mx > 0 && mid > 0 ? ar2 / (mx * mid) : 0.0;
-}
-}  // namespace
 
-double Optimizer::sinMinAngleOf(int a, int b, int c) const {
-  return sinMinAngle(T_.verts[a].xyz, T_.verts[b].xyz, T_.verts[c].xyz);
-}
 
 bool Optimizer::poorAngle(int t) const {
   const Triangle& tr = T_.tris[t];
   const TriVertex &a = T_.verts[tr.v[0]], &b = T_.verts[tr.v[1]], &c = T_.verts[tr.v[2]];
-  if ((a.flags | b.flags | c.flags) & VF_POLE) {
-    if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return false;
-  }
+  if (poleCollapsed(a, b, c)) return false;
   return sinMinAngle(a.xyz, b.xyz, c.xyz) < 0.5;  // smallest angle below 30 degrees
 }
 

@@ -120,7 +120,6 @@ class Optimizer {
 
  private:
   double edgeRatio(int a, int b) const;
-  double sinMinAngleOf(int a, int b, int c) const;
   /// Quality figures of ring_: worst and summed radius ratio, worst sine of the smallest angle.
   struct RingStats {
     double minQ = 1e300, sumQ = 0, minSin = 1e300;

@@ -4,6 +4,8 @@
 /// (u' = u*su, v' = v*sv, so that unit steps are roughly unit 3D lengths), evaluation, projection,
 /// sizes, and the per-vertex metric J^T J / h^2.
 #pragma once
+
+#include <algorithm>
 #include <cmath>
 
 #include "paramesh/algo/DomainGuard.hpp"
@@ -46,14 +48,28 @@ class SurfaceContext {
   bool stepAndProject(Vec2& s, Vec3 target, Vec3& out) const;
 };
 
-/// Radius-ratio quality 2 r_in / r_circ of a 3D triangle (1 equilateral, 0 degenerate).
-inline double gamma3(Vec3 a, Vec3 b, Vec3 c) {
-  const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
-  const double area2 = norm(cross(b - a, c - a));  // twice the area
-  const double s = la + lb + lc;
-  const double den = s * la * lb * lc;
-  if (!(den > 0)) return 0.0;
-  return 4.0 * area2 * area2 / den;  // = 8 A^2 / (s' * abc) with s' = s/2
+/// The side lengths (la opposite a, ...) and twice the area of a 3D triangle: what its radius
+/// ratio and its smallest angle are computed from (once, where both are needed).
+struct TriSides {
+  double la, lb, lc, area2;
+};
+inline TriSides triSides(Vec3 a, Vec3 b, Vec3 c) {
+  return {dist(b, c), dist(c, a), dist(a, b), norm(cross(b - a, c - a))};
 }
+/// Radius-ratio quality 2 r_in / r_circ (1 equilateral, 0 degenerate).
+inline double radiusRatio(const TriSides& t) {
+  const double s = t.la + t.lb + t.lc;
+  const double den = s * t.la * t.lb * t.lc;
+  if (!(den > 0)) return 0.0;
+  return 4.0 * t.area2 * t.area2 / den;  // = 8 A^2 / (s' * abc) with s' = s/2
+}
+/// sin of the smallest angle: 2 area / (product of the two longest sides)
+inline double sinMinAngle(const TriSides& t) {
+  const double mx = std::max({t.la, t.lb, t.lc}), mn = std::min({t.la, t.lb, t.lc});
+  const double mid = t.la + t.lb + t.lc - mx - mn;
+  return mx > 0 && mid > 0 ? t.area2 / (mx * mid) : 0.0;
+}
+inline double gamma3(Vec3 a, Vec3 b, Vec3 c) { return radiusRatio(triSides(a, b, c)); }
+inline double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) { return sinMinAngle(triSides(a, b, c)); }
 
 }  // namespace paramesh

@@ -2060,10 +2060,9 @@ QualitySummary summarizeQuality(const SurfaceMesh& m, const std::function<double
   size_t below30 = 0;
   for (const auto& t : m.triangles) {
     const Vec3 a = m.nodes[t[0]], b = m.nodes[t[1]], c = m.nodes[t[2]];
-    const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b);
-    const double ar2 = norm(cross(b - a, c - a));
-    const double s = la + lb + lc;
-    const double g = (s * la * lb * lc > 0) ? 4.0 * ar2 * ar2 / (s * la * lb * lc) : 0.0;
+    const TriSides sides = triSides(a, b, c);
+    const double la = sides.la, lb = sides.lb, lc = sides.lc;
+    const double g = radiusRatio(sides);
     gsum += g;
     gmin = std::min(gmin, g);
     auto ang = [](double x, double y, double z) {  // angle opposite x
