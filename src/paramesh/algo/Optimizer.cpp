@@ -13,9 +13,6 @@ namespace paramesh {
 namespace {
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
-}  // namespace
-
-namespace {
 // a triangle with two corners on one pole node: collapsed in 3D by construction, not a defect
 bool poleCollapsed(const TriVertex& a, const TriVertex& b, const TriVertex& c) {
   return ((a.flags | b.flags | c.flags) & VF_POLE) &&
@@ -141,9 +138,9 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
       // which let centroids 0.0304 of their edge off pass a bound of 0.029). Any surface point
       // bounds the distance, so even a projection that ends outside the domain may lower it.
       gap_[v] = dist(V.xyz, C_.surf.eval(C_.toParam(V.uv)));
-      Vec2 s = V.uv;
-      Vec3 foot;
       if (gap_[v] > 0) {
+        Vec2 s = V.uv;
+        Vec3 foot;
         C_.project(V.xyz, s, foot);
         const double d = dist(V.xyz, foot);
         if (std::isfinite(d)) gap_[v] = std::min(gap_[v], d);
@@ -1011,9 +1008,7 @@ int Optimizer::countPoorAngles(const Triangulation& T, const std::vector<char>& 
   for (const Triangle& tr : T.tris) {
     if (tr.dead || !(in(tr.v[0]) || in(tr.v[1]) || in(tr.v[2]))) continue;
     const TriVertex &a = T.verts[tr.v[0]], &b = T.verts[tr.v[1]], &c = T.verts[tr.v[2]];
-    if ((a.flags | b.flags | c.flags) & VF_POLE) {
-      if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) continue;
-    }
+    if (poleCollapsed(a, b, c)) continue;
     if (sinMinAngle(a.xyz, b.xyz, c.xyz) < 0.5) ++n;
   }
   return n;
