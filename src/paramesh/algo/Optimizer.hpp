@@ -52,7 +52,9 @@ class Optimizer {
   /// Returns the new vertex, or -1 when the edge is constrained or the midpoint leaves the face
   /// (or, with keepFacing, when a new triangle would face away from the surface where the one it
   /// came from did not).
-  int splitEdge(int t, int i, bool keepFacing = false);
+  /// at (optional): the split point in scaled (u,v), on the edge's (u,v) segment, used as is
+  /// (a fold's crest, from refineDeviation).
+  int splitEdge(int t, int i, bool keepFacing = false, const Vec2* at = nullptr);
   /// Collapses edges shorter than `shortRatio` * h when no edge longer than maxRatio * h appears.
   int collapsePass(double shortRatio, double maxRatio);
   /// Triangles standing on a boundary-layer front edge (both ends face-local boundary nodes)
@@ -120,6 +122,17 @@ class Optimizer {
 
  private:
   double edgeRatio(int a, int b) const;
+  /// The point of edge (a,b)'s (u,v) segment where the surface runs farthest from the 3D chord,
+  /// when it is markedly farther (kRidgePeak) than the chord's projected midpoint, i.e. the edge
+  /// crosses a fold narrower than itself, and not near an end (kCrestShare); false otherwise.
+  bool ridgePoint(int a, int b, Vec2& at) const;
+  /// Flips the free edge of t (over its deviation bound) whose flip lowers the pair's worst
+  /// deviation/bound most, by at least a fifth (kFlipGain), with both new triangles valid (no
+  /// crease guard: lining an edge up with a fold folds the pair on purpose). True when flipped.
+  bool flipForDeviation(int t);
+  /// Edge i of t is free and shared with triangle u = (d,c,b), t being (a,b,c), and flipping it
+  /// gives two valid triangles (a,b,d), (a,d,c).
+  bool validFlip(int t, int i, int& u, int& a, int& b, int& c, int& d) const;
   /// Quality figures of ring_: worst and summed radius ratio, worst sine of the smallest angle.
   struct RingStats {
     double minQ = 1e300, sumQ = 0, minSin = 1e300;
