@@ -53,7 +53,9 @@ class Optimizer {
   /// (or, with keepFacing, when a new triangle would face away from the surface where the one it
   /// came from did not).
   /// at (optional): the split point in scaled (u,v), on the edge's (u,v) segment, used as is
-  /// (a fold's crest, from refineDeviation).
+  /// (a fold's crest, from refineDeviation); such a split is also refused when a new triangle
+  /// falls below gamma kFoldMinQuality and below the pair it replaces, or when the point lies
+  /// within kCrestShare of the edge's length from a vertex opposite the edge.
   int splitEdge(int t, int i, bool keepFacing = false, const Vec2* at = nullptr);
   /// Collapses edges shorter than `shortRatio` * h when no edge longer than maxRatio * h appears.
   int collapsePass(double shortRatio, double maxRatio);
