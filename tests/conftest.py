@@ -6,5 +6,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "tests", "data")
-if ROOT not in sys.path:
-    sys.path.insert(0, ROOT)
+TOOLS = os.path.join(ROOT, "tests", "tools")  # the independent checkers, importable by tests
+for p in (ROOT, TOOLS):
+    if p not in sys.path:
+        sys.path.insert(0, p)

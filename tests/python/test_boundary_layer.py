@@ -16,13 +16,10 @@ import numpy as np
 import pytest
 
 import freecad.paramesh as pm
+import bl_check as bc  # tests/tools, put on sys.path by tests/conftest.py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TOOLS = os.path.join(ROOT, "tests", "tools")
-if TOOLS not in sys.path:
-    sys.path.insert(0, TOOLS)
-import bl_check as bc  # noqa: E402
-
 DATA = os.path.join(ROOT, "tests", "data")
 M6 = os.path.join(DATA, "AileM6_with_sharp_TE.stp")
 WING = os.path.join(DATA, "wing.brep")

@@ -9,18 +9,14 @@ where the bound was missed: two triangles at 0.0300 and 0.0304 until 012f0e4. Th
 added to their bound the offset of a node from the surface point at its (u,v) (2.3e-4), where
 the node itself lies 9e-6 from the surface."""
 import os
-import sys
 
 import numpy as np
 import pytest
 
 import freecad.paramesh as pm
+import bl_check as bc  # tests/tools, put on sys.path by tests/conftest.py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-TOOLS = os.path.join(ROOT, "tests", "tools")
-if TOOLS not in sys.path:
-    sys.path.insert(0, TOOLS)
-import bl_check as bc  # noqa: E402
 
 M6 = os.path.join(ROOT, "tests", "data", "AileM6_with_sharp_TE.stp")
 Part = bc.import_part()

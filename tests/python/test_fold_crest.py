@@ -12,18 +12,14 @@ Measured like tests/tools/fidelity_check.py on every triangle of blade Face7 wit
 point where stop 20's worst triangle lay: 119 of 498 triangles were beyond the bound (max 0.44);
 now 18 of 310 (max 0.27), where the fold closes into the cusp at the tip."""
 import os
-import sys
 
 import numpy as np
 import pytest
 
 import freecad.paramesh as pm
+import bl_check as bc  # tests/tools, put on sys.path by tests/conftest.py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-TOOLS = os.path.join(ROOT, "tests", "tools")
-if TOOLS not in sys.path:
-    sys.path.insert(0, TOOLS)
-import bl_check as bc  # noqa: E402
 
 PS = os.path.join(ROOT, "tests", "data", "propeller_and_shaft.iges")
 Part = bc.import_part()

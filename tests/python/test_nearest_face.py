@@ -7,18 +7,14 @@ faces), independently of ParaMesh: more than 5 % of the size off its own face an
 nearer. Without the check such triangles exist; with it there are none, and the mesh stays
 conformal and watertight."""
 import os
-import sys
 
 import numpy as np
 import pytest
 
 import freecad.paramesh as pm
+import bl_check as bc  # tests/tools, put on sys.path by tests/conftest.py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-TOOLS = os.path.join(ROOT, "tests", "tools")
-if TOOLS not in sys.path:
-    sys.path.insert(0, TOOLS)
-import bl_check as bc  # noqa: E402
 
 PROPELLER = os.path.join(ROOT, "tests", "data", "Propeller.brep")
 H = 13.586781259739915  # bounding-box diagonal / 100

@@ -139,12 +139,13 @@ bool Optimizer::ridgePoint(int a, int b, Vec2& at) const {
   const Vec3 e = B.xyz - A.xyz;
   const double l2 = norm2(e);
   if (!(l2 > 0)) return false;
-  // distance of the surface point at fraction f of the edge's (u,v) segment from the chord line
-  auto off = [&](double f) {
-    const Vec3 p = C_.surf.eval(C_.toParam(A.uv + f * (B.uv - A.uv)));
+  // distance of point p from the chord line, and of the surface point at fraction f of the
+  // edge's (u,v) segment
+  auto fromChord = [&](Vec3 p) {
     const Vec3 w = p - A.xyz;
     return norm(w - (dot(w, e) / l2) * e);
   };
+  auto off = [&](double f) { return fromChord(C_.surf.eval(C_.toParam(A.uv + f * (B.uv - A.uv)))); };
   constexpr int kSamples = 16;
   double best = -1, f0 = 0.5;
   for (int k = 1; k < kSamples; ++k) {
@@ -179,11 +180,7 @@ bool Optimizer::ridgePoint(int a, int b, Vec2& at) const {
   // domain and validity checks: a reference distance only)
   Vec2 s = 0.5 * (A.uv + B.uv);
   Vec3 p;
-  double mid = off(0.5);
-  if (C_.project(0.5 * (A.xyz + B.xyz), s, p)) {
-    const Vec3 w = p - A.xyz;
-    mid = norm(w - (dot(w, e) / l2) * e);
-  }
+  const double mid = C_.project(0.5 * (A.xyz + B.xyz), s, p) ? fromChord(p) : off(0.5);
   if (!(peak > kRidgePeak * mid)) return false;
   // a crest near an end is that end's to resolve (by a flip): no short edge beside it
   at = A.uv + f * (B.uv - A.uv);
@@ -842,8 +839,7 @@ int Optimizer::splitEdge(int t, int i, bool keepFacing, const Vec2* at) {
     }
     if (q1 < std::min(q0, kFoldMinQuality)) return -1;
     const double l = dist(A, B);
-    const double kOpp = kCrestShare;
-    if (dist(nv.xyz, Cc) < kOpp * l || (d >= 0 && dist(nv.xyz, T_.verts[d].xyz) < kOpp * l)) return -1;
+    if (dist(nv.xyz, Cc) < kCrestShare * l || (d >= 0 && dist(nv.xyz, T_.verts[d].xyz) < kCrestShare * l)) return -1;
   }
   if (keepFacing) {
     // the split must not turn a triangle that faces like the surface into ones that face away
@@ -1041,8 +1037,6 @@ int Optimizer::repairFrontApexes(double ratio) {
   }
   return moved;
 }
-
-
 
 bool Optimizer::poorAngle(int t) const {
   const Triangle& tr = T_.tris[t];
