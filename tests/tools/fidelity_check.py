@@ -2,6 +2,7 @@
 """Geometric fidelity of a surface mesh, triangle by triangle (independent of ParaMesh's code).
 
 usage: fidelity_check.py CAD MESH [--ratio 0.03] [--sample N] [--jobs J] [--worst K]
+                         [--faces F1,F2,...] [--max-edge L]
 For every triangle (or a random sample of N), the distance from its centroid to its own CAD face
 (MSH entity tag = FreeCAD face number) divided by the triangle's mean edge length. Triangles of
 planar faces are skipped (a plane has no sag). Prints JSON: max and percentiles of that ratio, how
@@ -120,6 +121,8 @@ def main():
     ap.add_argument('--sample', type=int, default=0)
     ap.add_argument('--jobs', type=int, default=2)
     ap.add_argument('--worst', type=int, default=5)
+    ap.add_argument('--faces', default='', help='only these faces (comma-separated FreeCAD numbers)')
+    ap.add_argument('--max-edge', type=float, default=0, help='only triangles whose mean edge is at most this')
     a = ap.parse_args()
     _limit = a.ratio
     _load(a.cad)
@@ -131,7 +134,13 @@ def main():
         if c.type == 'triangle':
             T.append(c.data); E.append(m.cell_data['gmsh:geometrical'][i])
     T = np.concatenate(T); E = np.concatenate(E)
-    idx = np.array([t for t in range(len(T)) if not planar[int(E[t]) - 1]], dtype=int)
+    keep = {int(x) for x in a.faces.split(',') if x.strip()}
+    idx = np.array([t for t in range(len(T)) if not planar[int(E[t]) - 1] and (not keep or int(E[t]) in keep)], dtype=int)
+    if a.max_edge > 0 and len(idx):
+        X = P[T[idx]]
+        L = (np.linalg.norm(X[:, 0] - X[:, 1], axis=1) + np.linalg.norm(X[:, 1] - X[:, 2], axis=1)
+             + np.linalg.norm(X[:, 2] - X[:, 0], axis=1)) / 3
+        idx = idx[L <= a.max_edge]
     if a.sample and a.sample < len(idx):
         idx = np.random.default_rng(0).choice(idx, a.sample, replace=False)
     chunks = [idx[k::max(1, a.jobs)] for k in range(max(1, a.jobs))]
