@@ -286,18 +286,33 @@ struct Mesher::Impl {
       const double dev = 1.4 * p.maxDeviation * p.size;
       const int nf = model.numFaces(), ne = model.numEdges();
       per.resize(nf + ne);
+      std::vector<FaceSamplingStats> stats(nf);
+      std::vector<char> failed(nf + ne, 0);
       parallelFor(nf + ne, threads, [&](int i) {
         progress.poll();
         try {
-          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax)
+          per[i] = i < nf ? faceCurvatureSources(model, i, ang, p.minSize, hmax, 0, &stats[i])
                           : edgeCurvatureSources(model, i - nf, ang, p.minSize, hmax, dev);
         } catch (const Cancelled&) {
           throw;
         } catch (...) {
-          log.warn(std::string("curvature sampling failed on ") + (i < nf ? "Face" : "Edge") +
-                   std::to_string(i < nf ? i + 1 : i - nf + 1));
+          failed[i] = 1;
         }
       });
+      // a face sampled coarser than its sizes, or not at all, gets larger elements than the
+      // curvature asks for: say so in the report, not only in the log
+      for (int i = 0; i < nf + ne; ++i) {
+        const std::string name = (i < nf ? "Face" : "Edge") + std::to_string(i < nf ? i + 1 : i - nf + 1);
+        std::string w;
+        if (failed[i])
+          w = "curvature sampling failed on " + name + ": its curvature sizes are missing";
+        else if (i < nf && stats[i].truncated)
+          w = "curvature sampling of " + name + " stopped at its budget of " + std::to_string(kFaceSamplingBudget) +
+              " cells: part of the face is sampled coarser than its curvature sizes (a larger min-size or curvature angle samples it in full)";
+        if (w.empty()) continue;
+        report.warnings.push_back(w);
+        log.warn(w);
+      }
     }
     for (const LocalSize& l : p.localSizes) per.push_back(localSizeSources(model, l));
     for (auto& v : per)

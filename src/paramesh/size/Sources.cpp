@@ -46,7 +46,14 @@ struct FaceSampler {
   const FaceDomain& dom;
   double angle, deviation, hmin, hmax;
   std::vector<SizeSource>& out;
+  long budget;
   long evals = 0;
+  bool truncated = false;
+
+  struct Cell {
+    Vec2 lo, hi;
+    int depthU, depthV;
+  };
 
   /// One evaluation (second derivatives) at the cell centre gives the size asked there and the
   /// cell's 3D extent along u and v (first order); cells larger than the size are split, leaves
@@ -54,38 +61,50 @@ struct FaceSampler {
   /// half its other extent), so that leaves are about square in 3D: where the parametrisation is
   /// stretched (blade surfaces near their leading edge) splitting both ways would make leaves
   /// far thinner than the size in one direction and multiply the sources by their aspect ratio.
-  void cell(Vec2 lo, Vec2 hi, int depthU, int depthV) {
-    const Vec2 c = 0.5 * (lo + hi);
-    SurfaceD2 d;
-    s.d2(c, d);
-    ++evals;
-    const double k = curvatureFromD2(d);
-    const double h = curvatureSize(k, angle, deviation, hmin, hmax);
-    const double eu = norm(d.du) * (hi.x - lo.x), ev = norm(d.dv) * (hi.y - lo.y);
-    const bool splitU = depthU < 10 && eu >= 0.5 * ev, splitV = depthV < 10 && ev >= 0.5 * eu;
-    if ((splitU || splitV) && eu + ev > 1.2 * h && h < hmax && evals < 2000000) {
-      if (splitU && splitV) {
-        cell(lo, c, depthU + 1, depthV + 1);
-        cell({c.x, lo.y}, {hi.x, c.y}, depthU + 1, depthV + 1);
-        cell({lo.x, c.y}, {c.x, hi.y}, depthU + 1, depthV + 1);
-        cell(c, hi, depthU + 1, depthV + 1);
-      } else if (splitU) {
-        cell(lo, {c.x, hi.y}, depthU + 1, depthV);
-        cell({c.x, lo.y}, hi, depthU + 1, depthV);
-      } else {
-        cell(lo, {hi.x, c.y}, depthU, depthV + 1);
-        cell({lo.x, c.y}, hi, depthU, depthV + 1);
+  /// Level by level (breadth first), so that a face that runs out of its budget is sampled
+  /// evenly one level short, not in full up to some cell and at the base grid after it.
+  void run(std::vector<Cell> level) {
+    std::vector<Cell> next;
+    while (!level.empty()) {
+      next.clear();
+      for (const Cell& q : level) {
+        const Vec2 lo = q.lo, hi = q.hi, c = 0.5 * (lo + hi);
+        const int depthU = q.depthU, depthV = q.depthV;
+        SurfaceD2 d;
+        s.d2(c, d);
+        ++evals;
+        const double k = curvatureFromD2(d);
+        const double h = curvatureSize(k, angle, deviation, hmin, hmax);
+        const double eu = norm(d.du) * (hi.x - lo.x), ev = norm(d.dv) * (hi.y - lo.y);
+        const bool splitU = depthU < 10 && eu >= 0.5 * ev, splitV = depthV < 10 && ev >= 0.5 * eu;
+        const bool wanted = (splitU || splitV) && eu + ev > 1.2 * h && h < hmax;
+        if (wanted && evals + (long)next.size() >= budget) truncated = true;
+        if (wanted && evals + (long)next.size() < budget) {
+          if (splitU && splitV) {
+            next.push_back({lo, c, depthU + 1, depthV + 1});
+            next.push_back({{c.x, lo.y}, {hi.x, c.y}, depthU + 1, depthV + 1});
+            next.push_back({{lo.x, c.y}, {c.x, hi.y}, depthU + 1, depthV + 1});
+            next.push_back({c, hi, depthU + 1, depthV + 1});
+          } else if (splitU) {
+            next.push_back({lo, {c.x, hi.y}, depthU + 1, depthV});
+            next.push_back({{c.x, lo.y}, hi, depthU + 1, depthV});
+          } else {
+            next.push_back({lo, {hi.x, c.y}, depthU, depthV + 1});
+            next.push_back({{lo.x, c.y}, hi, depthU, depthV + 1});
+          }
+          continue;
+        }
+        if (h < hmax && dom.inside(c)) out.push_back({d.p, h});
       }
-      return;
+      level.swap(next);
     }
-    if (h < hmax && dom.inside(c)) out.push_back({d.p, h});
   }
 };
 
 }  // namespace
 
 std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, double angleRad, double hmin,
-                                             double hmax, double deviation) {
+                                             double hmax, double deviation, FaceSamplingStats* stats, long budget) {
   std::vector<SizeSource> out;
   auto s = m.makeSurface(f);
   if (s->kind() == SurfaceKind::Plane) return out;
@@ -120,13 +139,19 @@ std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, dou
   }
   const int nu = std::clamp((int)std::ceil(Lu / hmax), 4, 256);
   const int nv = std::clamp((int)std::ceil(Lv / hmax), 4, 256);
-  FaceSampler fs{*s, dom, angleRad, deviation, hmin, hmax, out};
+  FaceSampler fs{*s, dom, angleRad, deviation, hmin, hmax, out, budget};
+  std::vector<FaceSampler::Cell> base;
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
       Vec2 lo{b.u0 + (b.u1 - b.u0) * i / nu, b.v0 + (b.v1 - b.v0) * j / nv};
       Vec2 hi{b.u0 + (b.u1 - b.u0) * (i + 1) / nu, b.v0 + (b.v1 - b.v0) * (j + 1) / nv};
-      fs.cell(lo, hi, 0, 0);
+      base.push_back({lo, hi, 0, 0});
     }
+  fs.run(std::move(base));
+  if (stats) {
+    stats->cells = fs.evals;
+    stats->truncated = fs.truncated;
+  }
   return out;
 }
 

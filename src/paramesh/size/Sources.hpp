@@ -25,11 +25,24 @@ double curvatureFromD2(const SurfaceD2& d);
 /// 0: off), clamped to [hmin, hmax].
 double curvatureSize(double kappa, double angleRad, double deviation, double hmin, double hmax);
 
+/// How the adaptive sampling of one face went.
+struct FaceSamplingStats {
+  long cells = 0;          ///< cells evaluated (one second-derivative evaluation each)
+  bool truncated = false;  ///< the cell budget stopped splits the sizes asked for
+};
+
+/// Cells one face's curvature sampling may evaluate (propeller_and_shaft's blade faces take
+/// 541 666 at --curvature-angle 10).
+constexpr long kFaceSamplingBudget = 2000000;
+
 /// Curvature sources of face f (sizes from curvatureSize with kappa = max principal curvature)
 /// sampled on an adaptive (u,v) grid inside the trimmed face, refined where h is small compared to
-/// the cells.
+/// the cells. Past `budget` cells no cell is split any more (the base grid, cells about hmax
+/// across, is still evaluated): the rest of the face is sampled
+/// coarser than its sizes (stats->truncated tells; the caller reports it).
 std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, double angleRad, double hmin,
-                                             double hmax, double deviation = 0);
+                                             double hmax, double deviation = 0, FaceSamplingStats* stats = nullptr,
+                                             long budget = kFaceSamplingBudget);
 /// Curvature sources along edge e (curve curvature).
 std::vector<SizeSource> edgeCurvatureSources(const IGeometryModel& m, int e, double angleRad, double hmin,
                                              double hmax, double deviation = 0);
