@@ -387,6 +387,22 @@ def test_blade_tip_edge_layer_meets_the_tip_face():
     assert_valid_mesh(res, watertight=True)
 
 
+def test_hub_circle_layer_stops_at_the_blade_roots():
+    """Rows grown from the hub's end circle (Edge10, merged with Edge24 of the hub Face5): the
+    blade roots on Face5 come within 2.7 of the circle, under the layer's 3.72. Each column
+    stopped at the roots, but a root's corner poked between two columns and the row joining them
+    crossed it: Face5 failed with "two boundary segments cross in (u,v)". A row that crosses the
+    face's boundary now stops both its columns."""
+    r = blade_layer(0.5, 5, edges=(10,))
+    assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
+    bl = r.report["boundary_layers"][0]
+    assert bl["layers_min"] >= 3 and bl["layers_max"] == 5, bl        # measured 3 and 5
+    assert bl["stops"]["face_boundary"] > 0, bl
+    res = measure(r, [10], 0.5, 1.2, 5)
+    assert_rows_exact(res)
+    assert_valid_mesh(res, watertight=True)
+
+
 # ----------------------------------------------------------------------------------------------
 # Plate with a square and a 12-gon hole: fans at reflex corners, a merged column at the outer corner
 

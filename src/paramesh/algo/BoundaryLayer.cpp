@@ -567,7 +567,13 @@ class FaceLayers {
           if ((int)A.uv.size() < k + 2 || (int)B.uv.size() < k + 2) continue;
           if (!(moved[i] || moved[j])) continue;
           if (A.root == B.root && k == 0) continue;  // fan triangle at a shared root
-          if (quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
+          // the row between two marched columns must not cross the face's boundary either: each
+          // column stays inside, yet a corner of a hole (propeller_and_shaft's blade roots on the
+          // hub Face5, 2.7 from the BL circle) can poke between two of them (an end column's
+          // points lie on the boundary: its rows touch it by construction)
+          const bool crossing = !A.fixed && !B.fixed && crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1);
+          if (!crossing &&
+              quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
             continue;
           for (Column* c : {&A, &B}) {
             if (c->fixed || (int)c->uv.size() < k + 2) continue;
@@ -575,7 +581,7 @@ class FaceLayers {
             c->xyz.pop_back();
             c->ref.pop_back();
             c->active = false;
-            c->stop = 3;
+            c->stop = crossing ? 1 : 3;
             changed = true;
           }
         }

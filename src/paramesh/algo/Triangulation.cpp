@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <unordered_map>
 
 #include "paramesh/algo/Predicates.hpp"
@@ -419,7 +420,14 @@ bool Triangulation::recoverSegment(int a, int b, std::string& why, int depth) {
     }
     if (e < 0) { why = "internal error while recovering a boundary segment"; return false; }
     if (isConstrained(t, e)) {
-      why = "two boundary segments cross in (u,v)";
+      // name where: the two segments' ends in 3D (the user finds the place; a developer the cause)
+      auto at = [&](int v) {
+        const Vec3& x = verts[v].xyz;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "(%.6g, %.6g, %.6g)", x.x, x.y, x.z);
+        return std::string(buf);
+      };
+      why = "two boundary segments cross in (u,v): " + at(a) + "-" + at(b) + " and " + at(right) + "-" + at(left);
       return false;
     }
     int u = tris[t].n[e];
