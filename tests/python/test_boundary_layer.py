@@ -403,6 +403,22 @@ def test_hub_circle_layer_stops_at_the_blade_roots():
     assert_valid_mesh(res, watertight=True)
 
 
+@pytest.mark.parametrize("first_height,layers", [(0.186, 5), (0.62, 8)])
+def test_end_columns_not_along_a_tangent_neighbour(first_height, layers):
+    """nist_ctc_01's Edge326 (a 22.8 line, one segment at diagonal/100) runs tangentially into the
+    arcs of a slot on the plane Face117. Its end columns ran along those arcs, i.e. along the BL
+    edge's own line: the rows between them crossed the slot, so Face117 failed ("two boundary
+    segments cross in (u,v)", h0 0.62 with 8 rows) or got an element facing the other way (h0
+    0.186 with 5 rows). An end whose neighbouring edge carries on within 30 degrees of straight
+    keeps no rows; the strip Face136 on the other side keeps its layer."""
+    r = pm.mesh_shape(os.path.join(DATA, "nist_ctc_01.brep"), size=18.60107524375957,
+                      boundary_layers=[dict(edges=[326], first_height=first_height, growth=1.2, layers=layers)])
+    assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
+    res = measure(r, [326], first_height, 1.2, layers)
+    assert_valid_mesh(res, watertight=True)                  # before: 1 orientation mismatch
+    assert res["quads"]["min_corner_sine"] >= 0.99, res["quads"]   # measured 1.0 (before 0.015)
+
+
 # ----------------------------------------------------------------------------------------------
 # Plate with a square and a 12-gon hole: fans at reflex corners, a merged column at the outer corner
 

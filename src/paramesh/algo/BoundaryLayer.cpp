@@ -375,7 +375,19 @@ class FaceLayers {
       if (first || last) {
         // end column: its points are the neighbouring edge's first nodes
         const int dir = first ? -1 : +1;
-        const int len = endColumnLength(L, i, dir, law);
+        int len = endColumnLength(L, i, dir, law);
+        // a run of one segment has no marched column: where a neighbouring edge carries on
+        // almost in line with the BL edge (within 30 degrees of straight: nist_ctc_01's Edge326
+        // runs tangentially into the arcs of a slot) its end column would lie along the BL edge
+        // itself, and the rows between the two end columns cross the face: that end keeps no
+        // rows. (Longer runs keep such end columns: their marched columns carry the rows, and on
+        // propeller_and_shaft's blade tip the column along Edge43 keeps the triangles there
+        // above 2 degrees, 1.6 without it.)
+        if (len > 0 && npts == 2) {
+          const Vec3 back = at(i - dir).xyz - p.xyz, along = at(i + dir).xyz - p.xyz;
+          const double lb = norm(back), la = norm(along);
+          if (lb > 0 && la > 0 && dot(back, along) < -std::cos(kPi / 6) * lb * la) len = 0;
+        }
 
         base.fixed = true;
         base.active = false;
@@ -569,9 +581,10 @@ class FaceLayers {
           if (A.root == B.root && k == 0) continue;  // fan triangle at a shared root
           // the row between two marched columns must not cross the face's boundary either: each
           // column stays inside, yet a corner of a hole (propeller_and_shaft's blade roots on the
-          // hub Face5, 2.7 from the BL circle) can poke between two of them (an end column's
-          // points lie on the boundary: its rows touch it by construction)
-          const bool crossing = !A.fixed && !B.fixed && crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1);
+          // hub Face5, 2.7 from the BL circle) can poke between two of them. An end column's
+          // points lie on the boundary: its rows touch it there, which is no crossing (only a
+          // proper crossing or a collinear overlap counts)
+          const bool crossing = crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1);
           if (!crossing &&
               quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
             continue;
@@ -742,14 +755,42 @@ class FaceLayers {
     return path;
   }
 
-  /// Safety net: while the front crosses itself (columns converging in a concave corner), the
-  /// tallest marched column involved loses its top layer.
+  /// Safety net: while the front crosses itself (columns converging in a concave corner) or the
+  /// face's boundary (a stair between columns of different heights past a hole's corner: a
+  /// nist_ctc_01 slot), the tallest marched column involved loses its top layer.
   void untangle(std::vector<Column>& cols, bool closed) {
     for (int guard = 0; guard < 2000; ++guard) {
       const auto path = frontPath(cols, closed);
       const int n = (int)path.size();
       auto uvOf = [&](int q) { return cols[path[q].first].uv[path[q].second]; };
+      // a segment between two roots runs along the BL edge, one down an end column along its
+      // neighbouring edge: both lie on the boundary, which is no crossing
       int bad = -1;
+      for (int i = 0; i + 1 < n && bad < 0; ++i) {
+        if (path[i].second == 0 && path[i + 1].second == 0) continue;
+        if (path[i].first == path[i + 1].first && cols[path[i].first].fixed) continue;
+        if (!crossesLoops(uvOf(i), uvOf(i + 1), -1, -1, -1)) continue;
+        // the taller marched column of the two; else the taller end column (a BL edge of one
+        // segment has only its two end columns: a nist_ctc_01 slot, whose rows at 5 above the
+        // edge ran across a hole): its top stays a plain point of the neighbouring edge
+        int best = -1;
+        for (int pass = 0; pass < 2 && best < 0; ++pass)
+          for (int q : {i, i + 1}) {
+            const Column& c = cols[path[q].first];
+            if (c.fixed != (pass == 1) || c.xyz.size() < 2) continue;
+            if (best < 0 || c.xyz.size() > cols[best].xyz.size()) best = path[q].first;
+          }
+        bad = best >= 0 ? best : -2;
+        if (best >= 0) cols[best].stop = 1;
+      }
+      if (bad >= 0) {
+        Column& c = cols[bad];
+        c.uv.pop_back();
+        c.xyz.pop_back();
+        c.ref.pop_back();
+        continue;
+      }
+      bad = -1;
       for (int i = 0; i + 1 < n && bad < 0; ++i)
         for (int j = i + 2; j + 1 < n; ++j) {
           if (segmentsCross(uvOf(i), uvOf(i + 1), uvOf(j), uvOf(j + 1))) {
