@@ -376,17 +376,19 @@ class FaceLayers {
         // end column: its points are the neighbouring edge's first nodes
         const int dir = first ? -1 : +1;
         int len = endColumnLength(L, i, dir, law);
-        // a run of one segment has no marched column: where a neighbouring edge carries on
-        // almost in line with the BL edge (within 30 degrees of straight: nist_ctc_01's Edge326
-        // runs tangentially into the arcs of a slot) its end column would lie along the BL edge
-        // itself, and the rows between the two end columns cross the face: that end keeps no
-        // rows. (Longer runs keep such end columns: their marched columns carry the rows, and on
-        // propeller_and_shaft's blade tip the column along Edge43 keeps the triangles there
-        // above 2 degrees, 1.6 without it.)
-        if (len > 0 && npts == 2) {
+        // An end column runs along the neighbouring edge. Where that edge carries on almost in
+        // line with the BL edge, the column lies along the BL edge's own line: in a run of one
+        // segment (no marched column) the rows between the two end columns cross the face
+        // (nist_ctc_01's Edge326 runs tangentially into the arcs of a slot), in a longer run the
+        // first quad has a straight corner (bottle.brep's Edge89: corner sine 0). Such an end
+        // keeps no rows: within 30 degrees of straight in a run of one segment, within 10 in a
+        // longer one (measured: 30 degrees there too cut the column along Edge43 at
+        // propeller_and_shaft's blade tip, and the triangles there fell from above 2 to 1.6).
+        if (len > 0) {
           const Vec3 back = at(i - dir).xyz - p.xyz, along = at(i + dir).xyz - p.xyz;
           const double lb = norm(back), la = norm(along);
-          if (lb > 0 && la > 0 && dot(back, along) < -std::cos(kPi / 6) * lb * la) len = 0;
+          const double straight = npts == 2 ? kPi / 6 : kPi / 18;
+          if (lb > 0 && la > 0 && dot(back, along) < -std::cos(straight) * lb * la) len = 0;
         }
 
         base.fixed = true;
