@@ -434,6 +434,19 @@ def test_end_column_not_along_the_edge_line():
     assert res["quads"]["min_corner_sine"] >= 0.8, res["quads"]   # measured 0.91 (before 0.0)
 
 
+def test_quads_convex_in_3d_at_the_m6_tip():
+    """The M6's Edge15 with h0 = size/20 and 10 rows: the first quad beside its end column along
+    the tip was convex in (u,v) but had a reflex corner in 3D (bl_check: corner sine -0.077).
+    A layer quad must now be convex in 3D too."""
+    size = 33.500098860449405   # diagonal / 100
+    r = pm.mesh_shape(M6, size=size, boundary_layers=[dict(edges=[15], first_height=size / 20, growth=1.2,
+                                                            layers=10)])
+    assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
+    res = measure(r, [15], size / 20, 1.2, 10)
+    assert_valid_mesh(res, watertight=True)
+    assert res["quads"]["min_corner_sine"] >= 0.8, res["quads"]   # measured 0.91
+
+
 # ----------------------------------------------------------------------------------------------
 # Plate with a square and a 12-gon hole: fans at reflex corners, a merged column at the outer corner
 

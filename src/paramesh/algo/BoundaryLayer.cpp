@@ -733,7 +733,17 @@ class FaceLayers {
     if (!pos && !neg) return false;
     // not folded in 3D: the two halves face the same way
     const Vec3 n1 = cross(B - A, C - A), n2 = cross(C - A, D - A);
-    return dot(n1, n2) > 0;
+    if (!(dot(n1, n2) > 0)) return false;
+    // and convex in 3D: every corner turns the same way about the quad's normal (a quad convex in
+    // (u,v) can have a reflex corner in 3D where the parametrisation is skewed: the ONERA M6's
+    // Edge15, at its end column along the tip)
+    const Vec3 nq = n1 + n2;
+    const Vec3 P[4] = {A, B, C, D};
+    for (int i = 0; i < 4; ++i) {
+      const Vec3 &p0 = P[(i + 3) % 4], &p1 = P[i], &p2 = P[(i + 1) % 4];
+      if (!(dot(cross(p1 - p0, p2 - p1), nq) > 0)) return false;
+    }
+    return true;
   }
 
   int newNode(Vec2 uv, Vec3 x) {
