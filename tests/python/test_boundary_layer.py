@@ -419,32 +419,24 @@ def test_end_columns_not_along_a_tangent_neighbour(first_height, layers):
     assert res["quads"]["min_corner_sine"] >= 0.99, res["quads"]   # measured 1.0 (before 0.015)
 
 
-def test_end_column_not_along_the_edge_line():
-    """bottle.brep's Edge89 (8 columns) ends where its neighbouring edge carries on in line: the
-    end column ran along the BL edge's own line and the first quad there had a straight corner
-    (bl_check: 1 inverted quad, corner sine 0.0, h0 = size/20 with 10 rows). An end whose
-    neighbouring edge carries on within 10 degrees of straight (30 in a run of one segment) now
-    keeps no rows."""
-    size = 1.8979771361014846   # diagonal / 100
-    r = pm.mesh_shape(BOTTLE, size=size, boundary_layers=[dict(edges=[89], first_height=size / 20, growth=1.2,
+@pytest.mark.parametrize("model,edge,size", [
+    # bottle.brep's Edge89 (8 columns) ends where its neighbouring edge carries on in line: the end
+    # column ran along the BL edge's own line and the first quad there had a straight corner
+    # (bl_check: 1 inverted quad, corner sine 0.0). An end whose neighbouring edge carries on
+    # within 10 degrees of straight (30 in a run of one segment) now keeps no rows.
+    (BOTTLE, 89, 1.8979771361014846),
+    # the M6's Edge15: the first quad beside its end column along the tip was convex in (u,v) but
+    # had a reflex corner in 3D (corner sine -0.077). A layer quad must now be convex in 3D too.
+    (M6, 15, 33.500098860449405),
+])
+def test_end_quads_valid(model, edge, size):
+    """h0 = size/20 with 10 rows, size = diagonal / 100 (found by a sweep over random edges)."""
+    r = pm.mesh_shape(model, size=size, boundary_layers=[dict(edges=[edge], first_height=size / 20, growth=1.2,
                                                                layers=10)])
     assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
-    res = measure(r, [89], size / 20, 1.2, 10)
+    res = measure(r, [edge], size / 20, 1.2, 10)
     assert_valid_mesh(res, watertight=True)
-    assert res["quads"]["min_corner_sine"] >= 0.8, res["quads"]   # measured 0.91 (before 0.0)
-
-
-def test_quads_convex_in_3d_at_the_m6_tip():
-    """The M6's Edge15 with h0 = size/20 and 10 rows: the first quad beside its end column along
-    the tip was convex in (u,v) but had a reflex corner in 3D (bl_check: corner sine -0.077).
-    A layer quad must now be convex in 3D too."""
-    size = 33.500098860449405   # diagonal / 100
-    r = pm.mesh_shape(M6, size=size, boundary_layers=[dict(edges=[15], first_height=size / 20, growth=1.2,
-                                                            layers=10)])
-    assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
-    res = measure(r, [15], size / 20, 1.2, 10)
-    assert_valid_mesh(res, watertight=True)
-    assert res["quads"]["min_corner_sine"] >= 0.8, res["quads"]   # measured 0.91
+    assert res["quads"]["min_corner_sine"] >= 0.8, res["quads"]   # measured 0.91 on both
 
 
 # ----------------------------------------------------------------------------------------------
