@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <unordered_map>
 
@@ -775,9 +776,20 @@ class FaceLayers {
       const auto path = frontPath(cols, closed);
       const int n = (int)path.size();
       auto uvOf = [&](int q) { return cols[path[q].first].uv[path[q].second]; };
+      // the tallest column with at least one row among the path points qs, end columns
+      // (fixed) or marched ones (-1: none)
+      auto tallest = [&](std::initializer_list<int> qs, bool fixed) {
+        int best = -1;
+        for (int q : qs) {
+          const Column& c = cols[path[q].first];
+          if (c.fixed != fixed || c.xyz.size() < 2) continue;
+          if (best < 0 || c.xyz.size() > cols[best].xyz.size()) best = path[q].first;
+        }
+        return best;
+      };
       // a segment between two roots runs along the BL edge, one down an end column along its
       // neighbouring edge: both lie on the boundary, which is no crossing
-      int bad = -1;
+      int bad = -1, stop = 1;
       for (int i = 0; i + 1 < n && bad < 0; ++i) {
         if (path[i].second == 0 && path[i + 1].second == 0) continue;
         if (path[i].first == path[i + 1].first && cols[path[i].first].fixed) continue;
@@ -785,45 +797,29 @@ class FaceLayers {
         // the taller marched column of the two; else the taller end column (a BL edge of one
         // segment has only its two end columns: a nist_ctc_01 slot, whose rows at 5 above the
         // edge ran across a hole): its top stays a plain point of the neighbouring edge
-        int best = -1;
-        for (int pass = 0; pass < 2 && best < 0; ++pass)
-          for (int q : {i, i + 1}) {
-            const Column& c = cols[path[q].first];
-            if (c.fixed != (pass == 1) || c.xyz.size() < 2) continue;
-            if (best < 0 || c.xyz.size() > cols[best].xyz.size()) best = path[q].first;
-          }
+        int best = tallest({i, i + 1}, false);
+        if (best < 0) best = tallest({i, i + 1}, true);
         bad = best >= 0 ? best : -2;
-        if (best >= 0) cols[best].stop = 1;
       }
-      if (bad >= 0) {
-        Column& c = cols[bad];
-        c.uv.pop_back();
-        c.xyz.pop_back();
-        c.ref.pop_back();
-        continue;
-      }
-      bad = -1;
-      for (int i = 0; i + 1 < n && bad < 0; ++i)
-        for (int j = i + 2; j + 1 < n; ++j) {
-          if (segmentsCross(uvOf(i), uvOf(i + 1), uvOf(j), uvOf(j + 1))) {
-            // the marched column among the four points with the most layers
-            int best = -1;
-            for (int q : {i, i + 1, j, j + 1}) {
-              const Column& c = cols[path[q].first];
-              if (c.fixed || c.xyz.size() < 2) continue;
-              if (best < 0 || c.xyz.size() > cols[best].xyz.size()) best = path[q].first;
+      if (bad < 0) {
+        bad = -1;
+        stop = 2;
+        for (int i = 0; i + 1 < n && bad < 0; ++i)
+          for (int j = i + 2; j + 1 < n; ++j) {
+            if (segmentsCross(uvOf(i), uvOf(i + 1), uvOf(j), uvOf(j + 1))) {
+              // the marched column among the four points with the most layers
+              const int best = tallest({i, i + 1, j, j + 1}, false);
+              bad = best >= 0 ? best : -2;
+              break;
             }
-            bad = best >= 0 ? best : -2;
-            break;
           }
-        }
-      if (bad == -1) return;
-      if (bad < 0) return;  // only fixed columns involved: nothing to trim
+      }
+      if (bad < 0) return;  // no crossing, or only fixed columns involved: nothing to trim
       Column& c = cols[bad];
       c.uv.pop_back();
       c.xyz.pop_back();
       c.ref.pop_back();
-      c.stop = 2;
+      c.stop = stop;
     }
   }
 

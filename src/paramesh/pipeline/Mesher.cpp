@@ -302,14 +302,13 @@ struct Mesher::Impl {
       // a face sampled coarser than its sizes, or not at all, gets larger elements than the
       // curvature asks for: say so in the report, not only in the log
       for (int i = 0; i < nf + ne; ++i) {
+        if (!failed[i] && !(i < nf && stats[i].truncated)) continue;
         const std::string name = (i < nf ? "Face" : "Edge") + std::to_string(i < nf ? i + 1 : i - nf + 1);
-        std::string w;
-        if (failed[i])
-          w = "curvature sampling failed on " + name + ": its curvature sizes are missing";
-        else if (i < nf && stats[i].truncated)
-          w = "curvature sampling of " + name + " stopped at its budget of " + std::to_string(kFaceSamplingBudget) +
-              " cells: part of the face is sampled coarser than its curvature sizes (a larger min-size or curvature angle samples it in full)";
-        if (w.empty()) continue;
+        const std::string w =
+            failed[i] ? "curvature sampling failed on " + name + ": its curvature sizes are missing"
+                      : "curvature sampling of " + name + " stopped at its budget of " +
+                            std::to_string(kFaceSamplingBudget) +
+                            " cells: part of the face is sampled coarser than its curvature sizes (a larger min-size or curvature angle samples it in full)";
         report.warnings.push_back(w);
         log.warn(w);
       }

@@ -38,8 +38,8 @@ constexpr long kFaceSamplingBudget = 2000000;
 /// Curvature sources of face f (sizes from curvatureSize with kappa = max principal curvature)
 /// sampled on an adaptive (u,v) grid inside the trimmed face, refined where h is small compared to
 /// the cells. Past `budget` cells no cell is split any more (the base grid, cells about hmax
-/// across, is still evaluated): the rest of the face is sampled
-/// coarser than its sizes (stats->truncated tells; the caller reports it).
+/// across, is still evaluated): the rest of the face is sampled coarser than its sizes
+/// (stats->truncated tells; the caller reports it).
 std::vector<SizeSource> faceCurvatureSources(const IGeometryModel& m, int f, double angleRad, double hmin,
                                              double hmax, double deviation = 0, FaceSamplingStats* stats = nullptr,
                                              long budget = kFaceSamplingBudget);
