@@ -3,7 +3,7 @@
 /// Tests of the exact predicates and of the 2D triangulation: constrained Delaunay triangulation of
 /// polygons with holes (segments present and constrained, orientation, domain, area, adjacency,
 /// Euler characteristic, local Delaunay property), its failure paths, incremental Delaunay
-/// insertion with flips, and vertex rings.
+/// insertion with flips, vertex rings, and the domain guard's point-in-face test.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "paramesh/algo/DomainGuard.hpp"
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/algo/Triangulation.hpp"
 
@@ -845,4 +846,45 @@ TEST(Triangulation, CompactDropsDeadTriangles) {
   EXPECT_EQ(vmap.size(), 7u);
   EXPECT_EQ(checkStructure(T), 0);
   EXPECT_NEAR(totalArea(T), area, 1e-15);
+}
+
+// A face with a notch cut in from its top edge down to the middle of its height (ANC101's Face41:
+// [0, 39.2] x [-10, 0] less [9.48, 28.3] x [-5, 0], its boundary sampled at uneven points). With
+// an odd number of cell rows, the row through the middle of the box has its centre line on the
+// notch's bottom segment: the guard's reference points lay on the boundary, and a band above the
+// notch's bottom read as inside, the band below as outside. Every box proportion and sampling
+// here, against the plain even-odd rule.
+TEST(DomainGuard, NotchBottomOnACellRowCentre) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0, 1);
+  int checked = 0, wrong = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const double W = 10 + 40 * U(rng), H = 2 + 10 * U(rng), y0 = -H, ym = -H / 2;
+    const double a = W * (0.1 + 0.3 * U(rng)), b = W * (0.6 + 0.3 * U(rng));
+    const int k = 1 + trial % 17;  // points per side: the grid's rows and columns vary
+    std::vector<Vec2> L;
+    auto side = [&](Vec2 p, Vec2 q) {
+      for (int i = 0; i < k; ++i) L.push_back(p + ((double)i / k) * (q - p));
+    };
+    side({0, 0}, {a, 0});
+    side({a, 0}, {a, ym});
+    side({a, ym}, {b, ym});
+    side({b, ym}, {b, 0});
+    side({b, 0}, {W, 0});
+    side({W, 0}, {W, y0});
+    side({W, y0}, {0, y0});
+    side({0, y0}, {0, 0});
+    DomainGuard g({L});
+    for (int q = 0; q < 200; ++q) {
+      const double x = W * U(rng);
+      const double y = q % 2 ? ym + (U(rng) - 0.5) * 2e-3 * H : y0 + H * U(rng);  // half of them by the notch's bottom
+      if (std::fabs(y - ym) < 1e-9 * H || std::fabs(y) < 1e-9 || std::fabs(y - y0) < 1e-9) continue;
+      if (std::fabs(x - a) < 1e-9 * W || std::fabs(x - b) < 1e-9 * W || x <= 0 || x >= W) continue;
+      const bool expect = y < ym || x < a || x > b;
+      ++checked;
+      if (g.inside({x, y}) != expect) ++wrong;
+    }
+  }
+  EXPECT_GT(checked, 50000);
+  EXPECT_EQ(wrong, 0);
 }

@@ -439,6 +439,66 @@ def test_end_quads_valid(model, edge, size):
     assert res["quads"]["min_corner_sine"] >= 0.8, res["quads"]   # measured 0.91 on both
 
 
+@needs_freecad
+def test_no_rows_outside_the_face_at_reflex_ends():
+    """screw.step's Edge12 is one segment (a 2.5-long arc) at the bottom of a slot, between the cone
+    Face7 and the slot's floor. On Face7 the slot's walls (Edges 4 and 9) rise away from the face:
+    end columns along them put the rows outside Face7 (a row point 0.094 off the face, bl_check:
+    1 orientation mismatch, status ok). The layer's side was a probe off the segment's chord,
+    which the arc bulges past; it is now judged on the true boundary, and an end column must leave
+    into the layer's side (30 degrees or more in a run of one segment). Any row that still stands
+    outside the true boundary is cut back."""
+    size = 2.0620488559318572  # diagonal / 50: Edge12 is one segment
+    part = _part()
+    shape = bc.read_shape(SCREW)
+    for h0, layers, quads in ((size / 100, 5, True), (size / 20, 10, True), (size / 60, 6, False)):
+        r = pm.mesh_shape(SCREW, size=size, boundary_layers=[dict(edges=[12], first_height=h0, growth=1.2,
+                                                                    layers=layers, quads=quads)])
+        assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
+        assert r.report["boundary_layers"][0]["elements"] > 0
+        res = measure(r, [12], h0, 1.2, layers)
+        assert_valid_mesh(res, watertight=True)                  # before: 1 orientation mismatch
+        if not quads:
+            continue
+        # every layer quad lies on its own face (before: a row point 0.094 off Face7), and the
+        # rows stand only on the slot's floor Face3, none on Face7
+        P, Q = np.asarray(r.nodes), np.asarray(r.quads)
+        faces = bc.SurfMesh.from_result(r).quad_face
+        assert set(int(f) for f in faces) == {3}, set(faces)
+        for q, f in zip(Q, faces):
+            d = part.Vertex(*P[q].mean(0)).distToShape(shape.Faces[int(f) - 1])[0]
+            assert d < 1e-3 * size, (f, d)
+
+
+@needs_freecad
+@pytest.mark.parametrize("model,edge,size,min_sine", [
+    # ANC101's Edge138 runs along the bottom of a notch cut into the plane Face41. The domain guard
+    # read a band of the notch as inside the face (the notch's bottom lay on a row of its grid's
+    # reference points), so the layer's side came out wrong and its rows stood in the notch,
+    # overlapped by the face's triangles (bl_check: 4 orientation mismatches, status ok). Its end
+    # columns, along the notch's sides, now stop: those sides leave away from Face41.
+    ("ANC101.stp", 138, 5.090788821813393, 0.9),
+    # CrankArm's Edge39 ends where its neighbouring edge leaves 1.6 degrees from it, into Face11:
+    # the end column ran almost back along the BL edge (quad corners of 1.1 and 1.6 degrees,
+    # corner sine 0.007). An end column must leave at 10 degrees or more.
+    ("CrankArm.brep", 39, 1.7449074614308635, 0.9),
+])
+def test_end_columns_leave_into_the_face(model, edge, size, min_sine):
+    path = os.path.join(DATA, model)
+    r = pm.mesh_shape(path, size=size, boundary_layers=[dict(edges=[edge], first_height=size / 100, growth=1.2,
+                                                               layers=5)])
+    assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
+    assert r.report["boundary_layers"][0]["elements"] > 0
+    res = measure(r, [edge], size / 100, 1.2, 5)
+    assert_valid_mesh(res, watertight=True)                          # ANC101 before: 4 mismatches
+    assert res["quads"]["min_corner_sine"] >= min_sine, res["quads"]  # measured 0.988 / 0.999
+    shape = bc.read_shape(path)
+    P, faces = np.asarray(r.nodes), bc.SurfMesh.from_result(r).quad_face
+    for q, f in zip(np.asarray(r.quads), faces):
+        d = _part().Vertex(*P[q].mean(0)).distToShape(shape.Faces[int(f) - 1])[0]
+        assert d < 1e-3 * size, (f, d)                               # ANC101 before: 0.378 off Face41
+
+
 # ----------------------------------------------------------------------------------------------
 # Plate with a square and a 12-gon hole: fans at reflex corners, a merged column at the outer corner
 

@@ -150,6 +150,8 @@ std::vector<EdgeBLPoints> planEndColumns(const IGeometryModel& m, const EdgeSpec
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+/// An end column along a neighbouring edge must leave the BL edge at this sine (10 degrees) or more.
+constexpr double kMinEndSine = 0.17364817766693033;
 
 struct Column {
   int root = -1;            ///< loop index of the root
@@ -167,9 +169,10 @@ struct Column {
 
 class FaceLayers {
  public:
-  FaceLayers(const ISurface& s, const std::vector<std::vector<LoopPoint>>& loops, const DomainGuard& guard,
-             const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws, FaceBLResult& out)
-      : S_(s), loops_(loops), guard_(guard), specOf_(specOf), laws_(laws), out_(out) {
+  FaceLayers(const ISurface& s, const std::vector<std::vector<LoopPoint>>& loops,
+             const std::vector<std::vector<Vec2>>& trueLoops, const DomainGuard& guard, const EdgeSpecMap& specOf,
+             const std::vector<LayerLaw>& laws, FaceBLResult& out)
+      : S_(s), loops_(loops), trueLoops_(trueLoops), guard_(guard), specOf_(specOf), laws_(laws), out_(out) {
     for (const LayerLaw& l : laws) specQuads_.push_back(l.quads);
     out_.stats.assign(laws.size(), FaceBLResult::SpecStats());
     const UVBox b = s.bounds();
@@ -184,6 +187,7 @@ class FaceLayers {
  private:
   const ISurface& S_;
   const std::vector<std::vector<LoopPoint>>& loops_;
+  const std::vector<std::vector<Vec2>>& trueLoops_;  ///< the guard's loops, index for index with loops_
   const DomainGuard& guard_;
   const EdgeSpecMap& specOf_;
   const std::vector<LayerLaw>& laws_;
@@ -296,6 +300,35 @@ class FaceLayers {
     return false;
   }
 
+  /// +1 when the face lies to the left of loop L's direction (in (u,v), where the surface normal
+  /// S_u x S_v makes left in (u,v) left in 3D) along the segment starting at point i, -1 when it
+  /// lies to the right, 0 when the probes disagree or the point is not on the true boundary. The
+  /// probes straddle the true boundary (the guard's own polyline) just after the point. A probe
+  /// off the segment's chord can land on either side of the boundary: a one-segment arc bulges
+  /// far more than any probe's offset (screw.step's Edge12, one 2.5-long arc at a slot's bottom,
+  /// got its rows outside its cone face).
+  int sideOf(int L, int i) const {
+    if (L >= (int)trueLoops_.size()) return 0;
+    const auto& F = trueLoops_[L];
+    const int m = (int)F.size(), n = (int)loops_[L].size();
+    if (m < 3) return 0;
+    const Vec2 a = loops_[L][((i % n) + n) % n].uv, b = loops_[L][(((i + 1) % n) + n) % n].uv;
+    int k = 0;
+    double best = 1e300;
+    for (int j = 0; j < m; ++j) {
+      const double d = dot(F[j] - a, F[j] - a);
+      if (d < best) best = d, k = j;
+    }
+    const double len = norm(b - a);
+    if (!(len > 0) || best > 1e-12 * len * len) return 0;
+    const Vec2 p = F[k], q = F[(k + 1) % m];
+    const Vec2 d = q - p;
+    if (!(norm(d) > 0)) return 0;
+    const Vec2 c = 0.5 * (p + q), left{-1e-3 * d.y, 1e-3 * d.x};
+    const bool inL = guard_.inside(c + left), inR = guard_.inside(c - left);
+    return inL == inR ? 0 : (inL ? 1 : -1);
+  }
+
   void processLoop(int L) {
     const auto& lp = loops_[L];
     const int n = (int)lp.size();
@@ -349,12 +382,16 @@ class FaceLayers {
     auto at = [&](int i) -> const LoopPoint& { return lp[((i % n) + n) % n]; };
     // loop direction sign: +1 when the face lies to the left of the loop (n x t points inside)
     const int mid = a + nseg / 2;
-    const Vec3 tm = at(mid + 1).xyz - at(mid).xyz;
-    const Vec2 uvm = 0.5 * (at(mid).uv + at(mid + 1).uv);
-    const Vec3 bm = normalized(cross(normalAt(uvm), tm));
-    const double probe = 1e-3 * norm(tm);
-    const bool leftIn = guard_.inside(uvm + uvStep(uvm, probe * bm));
-    const double sgn = leftIn ? 1.0 : -1.0;
+    int side = 0;
+    for (int j = 0, step = std::max(1, nseg / 8); j < nseg; j += step) side += sideOf(L, a + j);
+    if (side == 0) {
+      // no verdict from the true boundary: a probe off the middle segment's chord
+      const Vec3 tm = at(mid + 1).xyz - at(mid).xyz;
+      const Vec2 uvm = 0.5 * (at(mid).uv + at(mid + 1).uv);
+      const Vec3 bm = normalized(cross(normalAt(uvm), tm));
+      side = guard_.inside(uvm + uvStep(uvm, 1e-3 * norm(tm) * bm)) ? 1 : -1;
+    }
+    const double sgn = side > 0 ? 1.0 : -1.0;
 
     // columns at the run's points (corners may get several)
     std::vector<Column> cols;
@@ -390,6 +427,17 @@ class FaceLayers {
           const double lb = norm(back), la = norm(along);
           const double straight = npts == 2 ? kPi / 6 : kPi / 18;
           if (lb > 0 && la > 0 && dot(back, along) < -std::cos(straight) * lb * la) len = 0;
+          // The column must also leave into the face: where the neighbouring edge turns away from
+          // the layer's side (a reflex corner of the face), rows along it stand outside the face
+          // (screw.step's Edge12, an arc at a slot's bottom whose walls rise away from the cone
+          // Face7), and where it leaves almost back along the BL edge (a sliver corner of the
+          // face), the first quads get corners of a degree or two (CrankArm's Edge39: 1.6
+          // degrees). It must leave at 10 degrees or more; in a run of one segment, whose rows
+          // join the two end columns directly, at 30 or more.
+          if (len > 0 && lb > 0 && la > 0) {
+            const Vec3 inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
+            if (dot(along, inward) < (npts == 2 ? 0.5 : kMinEndSine) * la) len = 0;
+          }
         }
 
         base.fixed = true;
@@ -793,7 +841,11 @@ class FaceLayers {
       for (int i = 0; i + 1 < n && bad < 0; ++i) {
         if (path[i].second == 0 && path[i + 1].second == 0) continue;
         if (path[i].first == path[i + 1].first && cols[path[i].first].fixed) continue;
-        if (!crossesLoops(uvOf(i), uvOf(i + 1), -1, -1, -1)) continue;
+        // crossing the loops' chords, or standing outside the true boundary (a row between two
+        // end columns can leave the face without crossing a chord where the boundary between
+        // them is one segment of a curved edge)
+        if (!crossesLoops(uvOf(i), uvOf(i + 1), -1, -1, -1) && guard_.inside(0.5 * (uvOf(i) + uvOf(i + 1))))
+          continue;
         // the taller marched column of the two; else the taller end column (a BL edge of one
         // segment has only its two end columns: a nist_ctc_01 slot, whose rows at 5 above the
         // edge ran across a hole): its top stays a plain point of the neighbouring edge
@@ -1052,10 +1104,11 @@ class FaceLayers {
 }  // namespace
 
 FaceBLResult growFaceLayers(const ISurface& s, bool, const std::vector<std::vector<LoopPoint>>& loops,
-                            const DomainGuard& guard, const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws,
+                            const std::vector<std::vector<Vec2>>& trueLoops, const DomainGuard& guard,
+                            const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws,
                             const std::vector<EdgeBLPoints>&) {
   FaceBLResult out;
-  FaceLayers fl(s, loops, guard, specOf, laws, out);
+  FaceLayers fl(s, loops, trueLoops, guard, specOf, laws, out);
   fl.run();
   fl.buildLoops();
   return out;

@@ -56,36 +56,71 @@ DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
   list_.resize(count.back());
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (int k = 0; k < (int)segs_.size(); ++k) forCells(segs_[k], [&](int c) { list_[fill[c]++] = k; });
-  // parity at the centre of each cell: sweep each row from the left with a horizontal ray. Each
+  // Each cell keeps a reference point, near its centre, whose parity is known; a query flips it
+  // for each segment between the two. The reference must not lie on the boundary's line work: a
+  // row through a vertex, or a reference on a segment, counts a crossing on one side and not on
+  // the other (ANC101's Face41 has a horizontal segment at v = -5 exactly on a row's centre line:
+  // a band of the row above it read as inside, the face's notch, and the band below as outside).
+  // So each row's y is moved off every vertex's y, and each cell's x off its segments.
+  std::vector<double> vy;
+  for (const Seg& sg : segs_) vy.push_back(sg.a.y);
+  std::sort(vy.begin(), vy.end());
+  const double clearY = 1e-7 * dy_, clearX = 1e-7 * std::max(dx_, dy_);
+  refY_.assign(ny_, 0);
+  for (int j = 0; j < ny_; ++j) {
+    double y = y0_ + (j + 0.5) * dy_;
+    for (int k = 1; k < 64; ++k) {
+      const auto it = std::lower_bound(vy.begin(), vy.end(), y - clearY);
+      if (it == vy.end() || *it > y + clearY) break;
+      y = y0_ + (j + 0.5) * dy_ + (k % 2 ? 1 : -1) * ((k + 1) / 2) * 0.0123 * dy_;  // stays in the row
+    }
+    refY_[j] = y;
+  }
+  refX_.assign(nx_ * ny_, 0);
+  for (int j = 0; j < ny_; ++j)
+    for (int i = 0; i < nx_; ++i) {
+      const int c = j * nx_ + i;
+      double x = x0_ + (i + 0.5) * dx_;
+      for (int k = 1; k < 64; ++k) {
+        bool clear = true;
+        for (int q = start_[c]; q < start_[c + 1] && clear; ++q) {
+          const Seg& sg = segs_[list_[q]];
+          if ((sg.a.y > refY_[j]) == (sg.b.y > refY_[j])) continue;  // does not cross the row
+          const double xs = sg.a.x + (refY_[j] - sg.a.y) * (sg.b.x - sg.a.x) / (sg.b.y - sg.a.y);
+          if (std::fabs(xs - x) <= clearX) clear = false;
+        }
+        if (clear) break;
+        x = x0_ + (i + 0.5) * dx_ + (k % 2 ? 1 : -1) * ((k + 1) / 2) * 0.0123 * dx_;
+      }
+      refX_[c] = x;
+    }
+  // parity at each reference point: sweep each row from the left with a horizontal ray. Each
   // segment is offered to the rows its y range spans (testing every segment against every row
   // was O(segments^1.5): 2.8 % of nist_ctc_01 d/100's instructions)
   centreInside_.assign(nx_ * ny_, 0);
   std::vector<std::vector<double>> rows(ny_);
-  auto rowY = [&](int j) { return y0_ + (j + 0.5) * dy_; };
-  for (const Seg& s : segs_) {
+  for (const Seg& sg : segs_) {
     int j0 = 0, j1 = ny_ - 1;  // a non-finite end: every row, as before
-    if (std::isfinite(s.a.y) && std::isfinite(s.b.y)) {
-      // the rows whose centre y_j lies in [lo, hi): estimated, then widened while the next row
-      // out still lies inside (y_j never decreases with j, rounded or not)
-      const double lo = std::min(s.a.y, s.b.y), hi = std::max(s.a.y, s.b.y);
+    if (std::isfinite(sg.a.y) && std::isfinite(sg.b.y)) {
+      // the rows whose reference y_j lies in [lo, hi): estimated, then widened while the next row
+      // out still lies inside (y_j never decreases with j: each moves by less than half a row)
+      const double lo = std::min(sg.a.y, sg.b.y), hi = std::max(sg.a.y, sg.b.y);
       j0 = (int)std::clamp(std::floor((lo - y0_) / dy_ - 0.5), 0.0, (double)ny_ - 1);
       j1 = (int)std::clamp(std::ceil((hi - y0_) / dy_ - 0.5), 0.0, (double)ny_ - 1);
-      while (j0 > 0 && rowY(j0 - 1) >= lo) --j0;
-      while (j1 < ny_ - 1 && rowY(j1 + 1) < hi) ++j1;
+      while (j0 > 0 && refY_[j0 - 1] >= lo) --j0;
+      while (j1 < ny_ - 1 && refY_[j1 + 1] < hi) ++j1;
     }
     for (int j = j0; j <= j1; ++j) {
-      const double y = rowY(j);
-      if ((s.a.y > y) != (s.b.y > y)) rows[j].push_back(s.a.x + (y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y));
+      const double y = refY_[j];
+      if ((sg.a.y > y) != (sg.b.y > y)) rows[j].push_back(sg.a.x + (y - sg.a.y) * (sg.b.x - sg.a.x) / (sg.b.y - sg.a.y));
     }
   }
   for (int j = 0; j < ny_; ++j) {
     std::vector<double>& xs = rows[j];
     std::sort(xs.begin(), xs.end());
-    size_t k = 0;
     for (int i = 0; i < nx_; ++i) {
-      const double x = x0_ + (i + 0.5) * dx_;
-      while (k < xs.size() && xs[k] < x) ++k;
-      centreInside_[j * nx_ + i] = (char)(k & 1);
+      const double x = refX_[j * nx_ + i];
+      centreInside_[j * nx_ + i] = (char)((std::lower_bound(xs.begin(), xs.end(), x) - xs.begin()) & 1);
     }
   }
 }
@@ -101,7 +136,7 @@ bool DomainGuard::inside(Vec2 p) const {
   if (p.x < x0_ || p.y < y0_ || p.x > x0_ + nx_ * dx_ || p.y > y0_ + ny_ * dy_) return false;
   int i, j;
   const int c = cellOf(p.x, p.y, i, j);
-  const Vec2 centre{x0_ + (i + 0.5) * dx_, y0_ + (j + 0.5) * dy_};
+  const Vec2 centre{refX_[c], refY_[j]};
   bool in = centreInside_[c];
   for (int k = start_[c]; k < start_[c + 1]; ++k) {
     const Seg& s = segs_[list_[k]];

@@ -33,7 +33,8 @@ class DomainGuard {
   double x0_ = 0, y0_ = 0, dx_ = 1, dy_ = 1;
   int nx_ = 0, ny_ = 0;
   std::vector<int> start_, list_;     // CSR: segments per cell
-  std::vector<char> centreInside_;
+  std::vector<char> centreInside_;   // parity at each cell's reference point
+  std::vector<double> refY_, refX_;  // reference points: y per row, x per cell (near the centres)
 };
 
 }  // namespace paramesh

@@ -1426,7 +1426,7 @@ struct Mesher::Impl {
       loops.push_back(std::move(lp));
     }
     DomainGuard guard(fb.trueLoops);
-    FaceBLResult bl = growFaceLayers(s, model.faceReversed(f), loops, guard, blSpecOf, blLaws, blEnds);
+    FaceBLResult bl = growFaceLayers(s, model.faceReversed(f), loops, fb.trueLoops, guard, blSpecOf, blLaws, blEnds);
     {
       std::lock_guard<std::mutex> g(blMu_);
       for (size_t k = 0; k < bl.stats.size(); ++k) {
