@@ -446,8 +446,9 @@ def test_no_rows_outside_the_face_at_reflex_ends():
     end columns along them put the rows outside Face7 (a row point 0.094 off the face, bl_check:
     1 orientation mismatch, status ok). The layer's side was a probe off the segment's chord,
     which the arc bulges past; it is now judged on the true boundary, and an end column must leave
-    into the layer's side (30 degrees or more in a run of one segment). Any row that still stands
-    outside the true boundary is cut back."""
+    into the layer's side (30 degrees or more in a run of one segment), else it is marched square
+    to the edge when that direction lies inside the face (here: Face7 gets rows between two
+    marched columns). Any row that still stands outside the true boundary is cut back."""
     size = 2.0620488559318572  # diagonal / 50: Edge12 is one segment
     part = _part()
     shape = bc.read_shape(SCREW)
@@ -460,14 +461,16 @@ def test_no_rows_outside_the_face_at_reflex_ends():
         assert_valid_mesh(res, watertight=True)                  # before: 1 orientation mismatch
         if not quads:
             continue
-        # every layer quad lies on its own face (before: a row point 0.094 off Face7), and the
-        # rows stand only on the slot's floor Face3, none on Face7
+        # every node of the layers lies on its own trimmed face (before: a row point 0.094 off
+        # Face7, outside its domain), on both faces: on Face7 the run's end columns are now
+        # marched square to the edge, into the face
         P, Q = np.asarray(r.nodes), np.asarray(r.quads)
         faces = bc.SurfMesh.from_result(r).quad_face
-        assert set(int(f) for f in faces) == {3}, set(faces)
+        assert set(int(f) for f in faces) == {3, 7}, set(faces)
         for q, f in zip(Q, faces):
-            d = part.Vertex(*P[q].mean(0)).distToShape(shape.Faces[int(f) - 1])[0]
-            assert d < 1e-3 * size, (f, d)
+            for p in P[q]:
+                d = part.Vertex(*p).distToShape(shape.Faces[int(f) - 1])[0]
+                assert d < 1e-6 * size, (f, p, d)
 
 
 @needs_freecad
@@ -497,6 +500,24 @@ def test_end_columns_leave_into_the_face(model, edge, size, min_sine):
     for q, f in zip(np.asarray(r.quads), faces):
         d = _part().Vertex(*P[q].mean(0)).distToShape(shape.Faces[int(f) - 1])[0]
         assert d < 1e-3 * size, (f, d)                               # ANC101 before: 0.378 off Face41
+
+
+@pytest.mark.parametrize("edge", [78, 334])
+def test_one_segment_edge_between_tangent_neighbours_gets_rows(edge):
+    """small-edges-01's outline is 382 edges, most running on in line into the next. A BL edge of
+    one segment there had both ends dropped (an end column along an in-line neighbour would lie
+    along the BL edge itself) and got no rows at all, with status ok (elements 0). Its ends are now
+    marched square to the edge: 2 full columns, 5 quads."""
+    size = 0.6252955824300142  # diagonal / 100
+    r = pm.mesh_shape(os.path.join(DATA, "small-edges-01.brep"), size=size,
+                      boundary_layers=[dict(edges=[edge], first_height=size / 100, growth=1.2, layers=5)])
+    assert r.report["status"] == "ok" and not r.failed_faces, r.failed_faces
+    bl = r.report["boundary_layers"][0]
+    assert bl["elements"] == 5 and bl["full_columns"] == 2, bl     # before: 0 elements
+    res = measure(r, [edge], size / 100, 1.2, 5)
+    assert_rows_exact(res)
+    assert_valid_mesh(res, watertight=False)                      # one open face
+    assert res["quads"]["min_corner_sine"] >= 0.99, res["quads"]  # measured 1.0
 
 
 # ----------------------------------------------------------------------------------------------

@@ -422,11 +422,13 @@ class FaceLayers {
         // keeps no rows: within 30 degrees of straight in a run of one segment, within 10 in a
         // longer one (measured: 30 degrees there too cut the column along Edge43 at
         // propeller_and_shaft's blade tip, and the triangles there fell from above 2 to 1.6).
+        bool marchEnd = false;
         if (len > 0) {
           const Vec3 back = at(i - dir).xyz - p.xyz, along = at(i + dir).xyz - p.xyz;
           const double lb = norm(back), la = norm(along);
           const double straight = npts == 2 ? kPi / 6 : kPi / 18;
           if (lb > 0 && la > 0 && dot(back, along) < -std::cos(straight) * lb * la) len = 0;
+          Vec3 inward{0, 0, 0};
           // The column must also leave into the face: where the neighbouring edge turns away from
           // the layer's side (a reflex corner of the face), rows along it stand outside the face
           // (screw.step's Edge12, an arc at a slot's bottom whose walls rise away from the cone
@@ -434,10 +436,22 @@ class FaceLayers {
           // face), the first quads get corners of a degree or two (CrankArm's Edge39: 1.6
           // degrees). It must leave at 10 degrees or more; in a run of one segment, whose rows
           // join the two end columns directly, at 30 or more.
-          if (len > 0 && lb > 0 && la > 0) {
-            const Vec3 inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
+          if (lb > 0 && la > 0) {
+            inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
             if (dot(along, inward) < (npts == 2 ? 0.5 : kMinEndSine) * la) len = 0;
           }
+          // Such an end gets a column marched square to the BL edge instead, when that direction
+          // lies inside the face: the neighbouring edge carries on in line (a one-segment edge
+          // between tangent arcs got no rows at all) or turns away (a reflex corner). At a
+          // sliver corner it would leave the face at once.
+          marchEnd = len == 0 && norm2(inward) > 0 && (dot(along, inward) < 0 || dot(along, back) < 0);
+        }
+        if (marchEnd) {
+          Column c = base;
+          const Vec3 back = at(i - dir).xyz - p.xyz;
+          c.dir = sgn * normalized(cross(normalAt(p.uv), (-dir / norm(back)) * back));
+          cols.push_back(c);
+          continue;
         }
 
         base.fixed = true;
@@ -804,10 +818,17 @@ class FaceLayers {
   static std::vector<std::pair<int, int>> frontPath(const std::vector<Column>& cols, bool closed) {
     std::vector<std::pair<int, int>> path;
     const int m = (int)cols.size();
+    // a marched end column of an open run: the front runs up it from its root (and down the last)
+    if (!closed && m > 0 && !cols[0].fixed)
+      for (int k = 0; k + 1 < (int)cols[0].xyz.size(); ++k) path.emplace_back(0, k);
     for (int i = 0; i < m; ++i) {
       const int ka = (int)cols[i].xyz.size() - 1;
       path.emplace_back(i, ka);
-      if (!closed && i == m - 1) break;
+      if (!closed && i == m - 1) {
+        if (!cols[i].fixed)
+          for (int k = ka - 1; k >= 0; --k) path.emplace_back(i, k);
+        break;
+      }
       const int j = (i + 1) % m;
       const int kb = (int)cols[j].xyz.size() - 1;
       for (int k = ka - 1; k >= kb; --k) path.emplace_back(i, k);
@@ -875,20 +896,23 @@ class FaceLayers {
     }
   }
 
-  /// A marched column standing above both its neighbours has no element beside its upper rows:
+  /// A marched column standing above both its neighbours (above its one neighbour at the end of
+  /// an open run) has no element beside its upper rows:
   /// the front would run up one side of it and back down the other through the same nodes, a slit
   /// the face mesher refuses ("two boundary points coincide"). Such a column is cut down to its
   /// taller neighbour and stops for that neighbour's reason (a collision when the neighbour simply
   /// has fewer rows by its own law).
   static void trimNeedles(std::vector<Column>& cols, bool closed) {
     const int m = (int)cols.size();
-    if (m < 3) return;
+    if (m < (closed ? 3 : 2)) return;
     for (bool again = true; again;) {
       again = false;
       for (int i = 0; i < m; ++i) {
-        if (!closed && (i == 0 || i == m - 1)) continue;  // the ends of an open run are fixed
+        // the end of an open run has one neighbour (a marched end column; a fixed one lies on
+        // the boundary, beside its neighbouring edge)
+        const bool end0 = !closed && i == 0, end1 = !closed && i == m - 1;
         Column& c = cols[i];
-        const Column &a = cols[(i + m - 1) % m], &b = cols[(i + 1) % m];
+        const Column &a = cols[end0 ? 1 : (i + m - 1) % m], &b = cols[end1 ? m - 2 : (i + 1) % m];
         const Column& taller = a.xyz.size() >= b.xyz.size() ? a : b;
         if (c.fixed || c.xyz.size() <= taller.xyz.size()) continue;
         while (c.xyz.size() > taller.xyz.size()) {
@@ -958,11 +982,17 @@ class FaceLayers {
       front.push_back(p);
       layerH.push_back(k > 0 ? laws_[c.spec].height(k - 1) : 0.0);
     };
+    if (!closed && !cols.front().fixed)  // a marched end column: up from its root
+      for (int k = 0; k + 1 < (int)cols.front().xyz.size(); ++k) push(cols.front(), k);
     for (int i = 0; i < m; ++i) {
       const Column& A = cols[i];
       const int ka = (int)A.xyz.size() - 1;
       push(A, ka);
-      if (!closed && i == m - 1) break;
+      if (!closed && i == m - 1) {
+        if (!A.fixed)
+          for (int k = ka - 1; k >= 0; --k) push(A, k);
+        break;
+      }
       const Column& B = cols[(i + 1) % m];
       const int kb = (int)B.xyz.size() - 1;
       for (int k = ka - 1; k >= kb; --k) push(A, k);   // down column A
@@ -986,7 +1016,9 @@ class FaceLayers {
       rp.to = n - 1;
       rp.whole = true;
     } else {
-      const int lenA = (int)cols.front().xyz.size() - 1, lenB = (int)cols.back().xyz.size() - 1;
+      // the points of fixed end columns are loop points (the neighbouring edges' first nodes)
+      const int lenA = cols.front().fixed ? (int)cols.front().xyz.size() - 1 : 0;
+      const int lenB = cols.back().fixed ? (int)cols.back().xyz.size() - 1 : 0;
       rp.from = ((a - lenA) % n + n) % n;
       rp.to = ((a + nseg + lenB) % n + n) % n;
     }
