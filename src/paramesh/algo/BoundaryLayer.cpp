@@ -321,7 +321,9 @@ class FaceLayers {
     }
     const double len = norm(b - a);
     if (!(len > 0) || best > 1e-12 * len * len) return 0;
-    const Vec2 p = F[k], q = F[(k + 1) % m];
+    int k2 = (k + 1) % m;  // the next distinct point (a collapsed tiny edge repeats one)
+    for (int guard = 0; guard < m && F[k2].x == F[k].x && F[k2].y == F[k].y; ++guard) k2 = (k2 + 1) % m;
+    const Vec2 p = F[k], q = F[k2];
     const Vec2 d = q - p;
     if (!(norm(d) > 0)) return 0;
     const Vec2 c = 0.5 * (p + q), left{-1e-3 * d.y, 1e-3 * d.x};
@@ -427,8 +429,6 @@ class FaceLayers {
           const Vec3 back = at(i - dir).xyz - p.xyz, along = at(i + dir).xyz - p.xyz;
           const double lb = norm(back), la = norm(along);
           const double straight = npts == 2 ? kPi / 6 : kPi / 18;
-          if (lb > 0 && la > 0 && dot(back, along) < -std::cos(straight) * lb * la) len = 0;
-          Vec3 inward{0, 0, 0};
           // The column must also leave into the face: where the neighbouring edge turns away from
           // the layer's side (a reflex corner of the face), rows along it stand outside the face
           // (screw.step's Edge12, an arc at a slot's bottom whose walls rise away from the cone
@@ -437,14 +437,18 @@ class FaceLayers {
           // degrees). It must leave at 10 degrees or more; in a run of one segment, whose rows
           // join the two end columns directly, at 30 or more.
           if (lb > 0 && la > 0) {
-            inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
-            if (dot(along, inward) < (npts == 2 ? 0.5 : kMinEndSine) * la) len = 0;
+            const bool inLine = dot(back, along) < -std::cos(straight) * lb * la;
+            const Vec3 inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
+            const bool known = norm2(inward) > 0;
+            if (inLine || (known && dot(along, inward) < (npts == 2 ? 0.5 : kMinEndSine) * la)) len = 0;
+            // Such an end gets a column marched square to the BL edge instead, when the
+            // neighbouring edge carries on in line (a one-segment edge between tangent arcs got no
+            // rows at all) or turns away (a reflex corner): that direction lies inside the face.
+            // At a sliver corner it would leave the face at once. (Marching also the ends whose
+            // neighbouring edge got no column points, a short one, raised the hand-off jump on the
+            // Propeller's blade edges to 1.68, over test_propeller_blade_edges' 1.5: not done.)
+            marchEnd = known && (inLine || dot(along, inward) < 0);
           }
-          // Such an end gets a column marched square to the BL edge instead, when that direction
-          // lies inside the face: the neighbouring edge carries on in line (a one-segment edge
-          // between tangent arcs got no rows at all) or turns away (a reflex corner). At a
-          // sliver corner it would leave the face at once.
-          marchEnd = len == 0 && norm2(inward) > 0 && (dot(along, inward) < 0 || dot(along, back) < 0);
         }
         if (marchEnd) {
           Column c = base;
