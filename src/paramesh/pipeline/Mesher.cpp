@@ -159,6 +159,9 @@ struct Mesher::Impl {
   std::vector<LayerLaw> blLaws;
   std::vector<EdgeBLPoints> blEnds;     ///< outermost-column points on non-BL edges
   std::vector<FaceBLResult::SpecStats> blStats;
+  /// (face, spec) whose layer got columns but no element on that face, with its stop counts:
+  /// reported as warnings (a layer asked for and not grown is not silent)
+  std::map<std::pair<int, int>, FaceBLResult::SpecStats> blEmpty;
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
@@ -1444,6 +1447,10 @@ struct Mesher::Impl {
         a.fans += b.fans;
         a.merges += b.merges;
         a.elements += b.elements;
+        if (b.columns > 0 && b.elements == 0)
+          blEmpty[{f, (int)k}] = b;
+        else
+          blEmpty.erase({f, (int)k});
       }
     }
     FaceBoundary inner;
@@ -1814,8 +1821,11 @@ struct Mesher::Impl {
     std::vector<std::array<double, 2>> segmentT;
     std::vector<FaceReport> faces;
     std::vector<FaceBLResult::SpecStats> blStats;
+    std::map<std::pair<int, int>, FaceBLResult::SpecStats> blEmpty;
   };
-  MeshState saveState() const { return {mesh, field, edges, vertexNode, triUv, quadUv, segmentT, report.faces, blStats}; }
+  MeshState saveState() const {
+    return {mesh, field, edges, vertexNode, triUv, quadUv, segmentT, report.faces, blStats, blEmpty};
+  }
   void restoreState(MeshState&& st) {
     mesh = std::move(st.mesh);
     field = std::move(st.field);
@@ -1826,6 +1836,7 @@ struct Mesher::Impl {
     segmentT = std::move(st.segmentT);
     report.faces = std::move(st.faces);
     blStats = std::move(st.blStats);
+    blEmpty = std::move(st.blEmpty);
     offSurface.clear();
     triDeviation.clear();
   }
@@ -1900,6 +1911,26 @@ struct Mesher::Impl {
       b.merges = st.merges;
       b.elements = st.elements;
       report.boundaryLayers.push_back(b);
+    }
+    // faces where a layer was asked for and no element grew (no two neighbouring columns share a row)
+    for (const auto& [key, st] : blEmpty) {
+      std::string edgesOf;
+      for (int e = 0; e < model.numEdges(); ++e)
+        if (blSpecOf[e] == key.second) edgesOf += (edgesOf.empty() ? "Edge" : ", Edge") + std::to_string(e + 1);
+      std::string why;
+      auto add = [&](int n, const char* what) {
+        if (n > 0) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+      };
+      add(st.stopBoundary, "at the face boundary");
+      add(st.stopCollision, "by a collision");
+      add(st.stopInvalid, "folding");
+      add(st.stopAspect, "at the aspect limit");
+      add(st.stopEnd, "at an edge end or a corner");
+      const std::string w = "boundary layer " + std::to_string(key.second + 1) + " (" + edgesOf +
+                            ") got no element on Face" + std::to_string(key.first + 1) + " (" +
+                            std::to_string(st.columns) + " columns" + (why.empty() ? "" : "; stopped: " + why) + ")";
+      report.warnings.push_back(w);
+      log.warn(w);
     }
     stage("quality", tq.seconds());
   }
