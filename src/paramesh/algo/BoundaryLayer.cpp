@@ -420,11 +420,12 @@ class FaceLayers {
         // line with the BL edge, the column lies along the BL edge's own line: in a run of one
         // segment (no marched column) the rows between the two end columns cross the face
         // (nist_ctc_01's Edge326 runs tangentially into the arcs of a slot), in a longer run the
-        // first quad has a straight corner (bottle.brep's Edge89: corner sine 0). Such an end
-        // keeps no rows: within 30 degrees of straight in a run of one segment, within 10 in a
-        // longer one (measured: 30 degrees there too cut the column along Edge43 at
+        // first quad has a straight corner (bottle.brep's Edge89: corner sine 0). Such an end gets
+        // no column along it: within 30 degrees of straight in a run of one segment, within 10 in
+        // a longer one (measured: 30 degrees there too cut the column along Edge43 at
         // propeller_and_shaft's blade tip, and the triangles there fell from above 2 to 1.6).
         bool marchEnd = false;
+        Vec3 inward{0, 0, 0};  // square to the BL edge, into the face
         if (len > 0) {
           const Vec3 back = at(i - dir).xyz - p.xyz, along = at(i + dir).xyz - p.xyz;
           const double lb = norm(back), la = norm(along);
@@ -438,7 +439,7 @@ class FaceLayers {
           // join the two end columns directly, at 30 or more.
           if (lb > 0 && la > 0) {
             const bool inLine = dot(back, along) < -std::cos(straight) * lb * la;
-            const Vec3 inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
+            inward = sgn * normalized(cross(normalAt(p.uv), (-dir / lb) * back));
             const bool known = norm2(inward) > 0;
             if (inLine || (known && dot(along, inward) < (npts == 2 ? 0.5 : kMinEndSine) * la)) len = 0;
             // Such an end gets a column marched square to the BL edge instead, when the
@@ -452,8 +453,7 @@ class FaceLayers {
         }
         if (marchEnd) {
           Column c = base;
-          const Vec3 back = at(i - dir).xyz - p.xyz;
-          c.dir = sgn * normalized(cross(normalAt(p.uv), (-dir / norm(back)) * back));
+          c.dir = inward;
           cols.push_back(c);
           continue;
         }

@@ -98,7 +98,8 @@ std::vector<EdgeBLPoints> planEndColumns(const IGeometryModel& m, const EdgeSpec
 /// BL edges. Node refs of loop points are global; the result's loops replace the face's loops.
 /// trueLoops are the loops the guard was built from (the pcurves sampled finely), one per loop.
 FaceBLResult growFaceLayers(const ISurface& s, bool faceReversed, const std::vector<std::vector<LoopPoint>>& loops,
-                            const std::vector<std::vector<Vec2>>& trueLoops, const DomainGuard& guard, const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws,
+                            const std::vector<std::vector<Vec2>>& trueLoops, const DomainGuard& guard,
+                            const EdgeSpecMap& specOf, const std::vector<LayerLaw>& laws,
                             const std::vector<EdgeBLPoints>& endPoints);
 
 }  // namespace paramesh

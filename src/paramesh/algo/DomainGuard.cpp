@@ -14,6 +14,13 @@ bool crosses(Vec2 a, Vec2 b, Vec2 p, Vec2 q) {
   const double d1 = orient(a, b, p), d2 = orient(a, b, q), d3 = orient(p, q, a), d4 = orient(p, q, b);
   return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
 }
+
+// x where segment (a, b) crosses the horizontal line at y (the segment spans y)
+double crossingX(Vec2 a, Vec2 b, double y) { return a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y); }
+
+// the k-th trial offset (k >= 1) of a reference point off its cell's centre, in cells: +0.0123, -0.0123,
+// +0.0246, ... (at most 0.39 after 63 trials, so the point stays in its cell)
+double nudge(int k) { return (k % 2 ? 1 : -1) * ((k + 1) / 2) * 0.0123; }
 }  // namespace
 
 DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
@@ -72,7 +79,7 @@ DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
     for (int k = 1; k < 64; ++k) {
       const auto it = std::lower_bound(vy.begin(), vy.end(), y - clearY);
       if (it == vy.end() || *it > y + clearY) break;
-      y = y0_ + (j + 0.5) * dy_ + (k % 2 ? 1 : -1) * ((k + 1) / 2) * 0.0123 * dy_;  // stays in the row
+      y = y0_ + (j + 0.5) * dy_ + nudge(k) * dy_;  // stays in the row
     }
     refY_[j] = y;
   }
@@ -86,11 +93,10 @@ DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
         for (int q = start_[c]; q < start_[c + 1] && clear; ++q) {
           const Seg& sg = segs_[list_[q]];
           if ((sg.a.y > refY_[j]) == (sg.b.y > refY_[j])) continue;  // does not cross the row
-          const double xs = sg.a.x + (refY_[j] - sg.a.y) * (sg.b.x - sg.a.x) / (sg.b.y - sg.a.y);
-          if (std::fabs(xs - x) <= clearX) clear = false;
+          if (std::fabs(crossingX(sg.a, sg.b, refY_[j]) - x) <= clearX) clear = false;
         }
         if (clear) break;
-        x = x0_ + (i + 0.5) * dx_ + (k % 2 ? 1 : -1) * ((k + 1) / 2) * 0.0123 * dx_;
+        x = x0_ + (i + 0.5) * dx_ + nudge(k) * dx_;
       }
       refX_[c] = x;
     }
@@ -112,7 +118,7 @@ DomainGuard::DomainGuard(const std::vector<std::vector<Vec2>>& loops) {
     }
     for (int j = j0; j <= j1; ++j) {
       const double y = refY_[j];
-      if ((sg.a.y > y) != (sg.b.y > y)) rows[j].push_back(sg.a.x + (y - sg.a.y) * (sg.b.x - sg.a.x) / (sg.b.y - sg.a.y));
+      if ((sg.a.y > y) != (sg.b.y > y)) rows[j].push_back(crossingX(sg.a, sg.b, y));
     }
   }
   for (int j = 0; j < ny_; ++j) {
@@ -142,16 +148,6 @@ bool DomainGuard::inside(Vec2 p) const {
     const Seg& s = segs_[list_[k]];
     if (crosses(s.a, s.b, p, centre)) in = !in;
   }
-  return in;
-}
-
-bool DomainGuard::parityAt(Vec2 p) const {
-  bool in = false;
-  for (const Seg& s : segs_)
-    if ((s.a.y > p.y) != (s.b.y > p.y)) {
-      const double x = s.a.x + (p.y - s.a.y) * (s.b.x - s.a.x) / (s.b.y - s.a.y);
-      if (p.x < x) in = !in;
-    }
   return in;
 }
 

@@ -28,7 +28,6 @@ class DomainGuard {
     Vec2 a, b;
   };
   int cellOf(double x, double y, int& i, int& j) const;
-  bool parityAt(Vec2 p) const;  // brute force (build only)
   std::vector<Seg> segs_;
   double x0_ = 0, y0_ = 0, dx_ = 1, dy_ = 1;
   int nx_ = 0, ny_ = 0;

@@ -1915,8 +1915,8 @@ struct Mesher::Impl {
     // faces where a layer was asked for and no element grew (no two neighbouring columns share a row)
     for (const auto& [key, st] : blEmpty) {
       std::string edgesOf;
-      for (int e = 0; e < model.numEdges(); ++e)
-        if (blSpecOf[e] == key.second) edgesOf += (edgesOf.empty() ? "Edge" : ", Edge") + std::to_string(e + 1);
+      for (int e : report.boundaryLayers[key.second].edges)  // 1-based, listed just above
+        edgesOf += (edgesOf.empty() ? "Edge" : ", Edge") + std::to_string(e);
       std::string why;
       auto add = [&](int n, const char* what) {
         if (n > 0) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
