@@ -24,10 +24,16 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#if defined(__linux__)
+#include <sched.h>
+#endif
 
 #include "paramesh/algo/FaceMesher.hpp"
 #include "paramesh/algo/Optimizer.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/algo/Triangulation.hpp"
@@ -745,4 +751,29 @@ TEST(Ops, DeviationZoneBoundsHoldOverASweep) {
         if (inZone > 0 && h * h / 18 > allowed) ++refined;
       }
   EXPECT_EQ(refined, 63);
+}
+
+TEST(Parallel, CgroupCpuLimitIsReadAsWholeCpus) {
+  EXPECT_EQ(cpusFromCgroupMax("200000 100000"), 2);
+  EXPECT_EQ(cpusFromCgroupMax("150000 100000"), 2);  // 1.5 CPUs: two threads, the second half-busy
+  EXPECT_EQ(cpusFromCgroupMax("50000 100000"), 1);
+  EXPECT_EQ(cpusFromCgroupMax("max 100000"), 0);     // no limit
+  EXPECT_EQ(cpusFromCgroupMax("-1 100000"), 0);      // cgroup v1: no limit
+  EXPECT_EQ(cpusFromCgroupMax(""), 0);
+  EXPECT_EQ(cpusFromCgroupMax("garbage"), 0);
+  EXPECT_EQ(cpusFromCgroupMax("12x 100000"), 0);
+  EXPECT_EQ(cpusFromCgroupMax("100000 0"), 0);
+}
+
+TEST(Parallel, DefaultThreadCountIsTheCpusThisProcessMayUse) {
+  const int n = resolveThreads(0);
+  EXPECT_GE(n, 1);
+  EXPECT_LE(n, (int)std::max(1u, std::thread::hardware_concurrency()));
+#if defined(__linux__)
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  ASSERT_EQ(sched_getaffinity(0, sizeof(set), &set), 0);
+  EXPECT_LE(n, CPU_COUNT(&set));
+#endif
+  EXPECT_EQ(resolveThreads(3), 3);
 }

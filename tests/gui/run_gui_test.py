@@ -737,6 +737,14 @@ def step_reopened_quality_and_export(doc, m):
     check("export .msh after reopening (background re-mesh)", os.path.exists(path) and os.path.getsize(path) > 1000)
 
 
+def _read_first_line(path):
+    try:
+        with open(path) as f:
+            return f.readline().strip()
+    except OSError:
+        return ""
+
+
 def step_latency():
     import Part
     doc = FreeCAD.newDocument("Big")
@@ -767,6 +775,11 @@ def step_latency():
     log(f"gaps > 50 ms (s after the worker started, ms): {ticker.gaps_over(0.05, runner.t_start, t_end)}")
     r = report(mesh)
     tri = r.get("counts", {}).get("triangles", 0)
+    long_gaps = ticker.gaps_over(0.1, runner.t_start, t_end)
+    threads = r.get("parameters", {}).get("threads")
+    METRICS.update(latency_gaps_over_100ms=long_gaps, big_threads=threads,
+                   cpus=f"{os.cpu_count()} online, {len(os.sched_getaffinity(0))} in affinity, "
+                        f"cgroup cpu.max {_read_first_line('/sys/fs/cgroup/cpu.max') or 'n/a'}")
     METRICS.update(latency_max_gap_ms=round(gap * 1000, 1), latency_ticks=n, big_size=BIG_SIZE,
                    big_triangles=tri, big_compute_seconds=round(compute, 2),
                    big_store_seconds=round(panel.run.apply_seconds, 2), progress_bar_paints=paints_during)
@@ -842,7 +855,8 @@ def finish():
     lines = ["ParaMesh GUI test (FreeCAD %s)" % ".".join(FreeCAD.Version()[:3]),
              f"checks: {passed} passed, {len(failed)} failed, {total:.0f} s"]
     for k in ("m6_triangles", "bl_triangles", "bl_quads", "cancel_seconds", "big_triangles", "big_compute_seconds",
-              "latency_max_gap_ms", "latency_ticks", "big_store_seconds", "progress_bar_paints"):
+              "latency_max_gap_ms", "latency_gaps_over_100ms", "big_threads", "cpus", "latency_ticks",
+              "big_store_seconds", "progress_bar_paints"):
         if k in METRICS:
             lines.append(f"  {k}: {METRICS[k]}")
     for n, d in failed:

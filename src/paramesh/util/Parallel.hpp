@@ -7,16 +7,26 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
 namespace paramesh {
 
-/// Number of worker threads to use for a requested count (0 = hardware concurrency).
+/// CPUs a cgroup CPU limit allows: `cpu.max` text of cgroup v2 ("200000 100000" -> 2, rounded up;
+/// "max 100000" -> 0 = no limit), or 0 when the text cannot be read as a limit.
+int cpusFromCgroupMax(const std::string& cpuMax);
+
+/// CPUs this process may really use: the scheduler affinity mask, capped by a cgroup CPU quota
+/// (v2 cpu.max or v1 cfs_quota_us / cfs_period_us), falling back to hardware_concurrency. In a
+/// container hardware_concurrency reports the host's CPUs; using more threads than the quota
+/// allows makes the kernel throttle the whole process, GUI thread included.
+int availableCpus();
+
+/// Number of worker threads to use for a requested count (0 = the CPUs this process may use).
 inline int resolveThreads(int requested) {
   if (requested > 0) return requested;
-  unsigned h = std::thread::hardware_concurrency();
-  return h > 0 ? (int)h : 1;
+  return availableCpus();
 }
 
 /// Runs f(i) for i in [0,n) on `threads` threads; tasks are taken in order of `order` when given
