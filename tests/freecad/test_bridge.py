@@ -185,3 +185,47 @@ def test_max_elements_property_stops_a_runaway_mesh():
         assert obj.Status == "ok" and 2000 < obj.FemMesh.FaceCount < 100000
     finally:
         FreeCAD.closeDocument(doc.Name)
+
+
+def _femmesh_content(fm):
+    nodes = fm.Nodes
+    elems = {e: fm.getElementNodes(e) for e in fm.Faces}
+    groups = {fm.getGroupName(g): sorted(fm.getGroupElements(g)) for g in fm.Groups}
+    return {k: tuple(v) for k, v in nodes.items()}, elems, groups
+
+
+def test_femmesh_filled_by_the_gui_worker_equals_the_direct_one_and_can_be_cancelled():
+    """The GUI's worker thread fills an empty FemMesh made on the GUI thread (nodes and elements in
+    short calls), and the groups are added afterwards: the result is the same FemMesh, node for
+    node, element for element, group for group, as the direct conversion; a cancel stops it."""
+    from freecad.paramesh.app.to_femmesh import (BuildCancelled, add_result_groups,
+                                                  result_to_femmesh)
+    from freecad.paramesh.app.factories import make_boundary_layer, make_surface_mesh
+    from freecad.paramesh.gui.runner import MeshRunner
+    specs = [{"edges": [21], "first_height": 0.5, "growth": 1.2, "layers": 12}]
+    doc = FreeCAD.newDocument("WorkerFem")
+    try:
+        wing = doc.addObject("Part::Feature", "Wing")
+        wing.Shape = Part.read(M6)
+        mesh = make_surface_mesh(doc, wing, size=30.0)
+        make_boundary_layer(doc, mesh, edges=[21], first_height=0.5, growth=1.2, layers=12)
+        runner = MeshRunner().prepare(mesh)
+        runner.start()
+        assert runner.wait(120) and runner.state == "done", runner.error
+        result, fm = runner.collect(), runner.collect_femmesh()
+        assert runner.t_start < runner.t_meshed <= runner.t_end
+        assert fm.FaceCount == len(result.triangles) + len(result.quads) > 0 and fm.GroupCount == 0
+        assert fm.QuadrangleCount == len(result.quads) > 0
+        mesh.Proxy.apply_result(mesh, result, fm)
+        direct = pm.mesh_shape(wing.Shape, size=30.0, boundary_layers=specs).to_femmesh()
+        assert _femmesh_content(mesh.FemMesh) == _femmesh_content(direct)
+        assert mesh.FemMesh.getGroupName(mesh.FemMesh.Groups[-1]) == "BoundaryLayer1"
+        # a cancel between chunks stops the fill
+        calls = []
+        with pytest.raises(BuildCancelled):
+            result_to_femmesh(result, femmesh=Fem.FemMesh(), cancelled=lambda: calls.append(1) or len(calls) > 1)
+        later = result_to_femmesh(result, groups=False, femmesh=Fem.FemMesh(), cancelled=lambda: False)
+        add_result_groups(later, result)
+        assert _femmesh_content(later) == _femmesh_content(direct)
+    finally:
+        FreeCAD.closeDocument(doc.Name)

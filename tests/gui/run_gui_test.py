@@ -767,7 +767,8 @@ def step_latency():
     runner = panel.run.runner
     t_end = runner.t_end or time.perf_counter()
     gap, n = ticker.max_gap(until=t_end)
-    compute = runner.elapsed
+    compute = (runner.t_meshed or t_end) - runner.t_start  # the core's run
+    build = t_end - (runner.t_meshed or t_end)  # the worker filling the FemMesh after it
     paints_during = paints.count
     wait_until(lambda: panel.run.state in ("done", "failed", "cancelled"), 120)
     ticker.stop()
@@ -782,11 +783,14 @@ def step_latency():
                         f"cgroup cpu.max {_read_first_line('/sys/fs/cgroup/cpu.max') or 'n/a'}")
     METRICS.update(latency_max_gap_ms=round(gap * 1000, 1), latency_ticks=n, big_size=BIG_SIZE,
                    big_triangles=tri, big_compute_seconds=round(compute, 2),
+                   big_femmesh_build_seconds=round(build, 2),
                    big_store_seconds=round(panel.run.apply_seconds, 2), progress_bar_paints=paints_during)
     check("~1 M triangle mesh computed", ok and panel.run.state == "done" and tri >= 900000, f"{tri} triangles")
-    check("event loop never blocked > 200 ms while meshing", gap < 0.200 and n > 0.5 * compute / 0.020,
-          f"max gap {gap * 1000:.1f} ms over {n} ticks in {compute:.1f} s")
-    check("panel repainted while meshing (elapsed-time label)", paints_during > compute / 0.5, paints_during)
+    check("event loop never blocked > 200 ms while meshing and building the FemMesh",
+          gap < 0.200 and n > 0.5 * (compute + build) / 0.020,
+          f"max gap {gap * 1000:.1f} ms over {n} ticks in {compute + build:.1f} s")
+    check("panel repainted while meshing (elapsed-time label)", paints_during > (compute + build) / 0.5,
+          paints_during)
     log(f"storing the result on the GUI thread took {panel.run.apply_seconds:.1f} s (FemMesh + view)")
     shot_window("window_big_mesh.png")
     press(QtGui.QDialogButtonBox.Ok)
@@ -856,7 +860,7 @@ def finish():
              f"checks: {passed} passed, {len(failed)} failed, {total:.0f} s"]
     for k in ("m6_triangles", "bl_triangles", "bl_quads", "cancel_seconds", "big_triangles", "big_compute_seconds",
               "latency_max_gap_ms", "latency_gaps_over_100ms", "big_threads", "cpus", "latency_ticks",
-              "big_store_seconds", "progress_bar_paints"):
+              "big_femmesh_build_seconds", "big_store_seconds", "progress_bar_paints"):
         if k in METRICS:
             lines.append(f"  {k}: {METRICS[k]}")
     for n, d in failed:

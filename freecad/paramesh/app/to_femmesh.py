@@ -60,47 +60,79 @@ def result_to_mesh(result):
     return mesh
 
 
-def result_to_femmesh(result, groups=True):
+_CHUNK = 16384  # rows handed to FemMesh per call burst: short holds of the GIL, and a cancel check
+
+
+class BuildCancelled(Exception):
+    """result_to_femmesh stopped because its cancelled() callback returned True."""
+
+
+def _chunks(n, cancelled):
+    for s in range(0, n, _CHUNK):
+        if cancelled is not None and cancelled():
+            raise BuildCancelled()
+        yield s, min(n, s + _CHUNK)
+
+
+def _add_rows(fm, rows, first_id, cancelled):
+    """fm.addFace(row, id) for each row (ids from first_id), a chunk at a time (the loop runs inside
+    map, in C; numpy -> list conversion per chunk, so no single call holds the GIL for long)."""
+    add = fm.addFace
+    for s, e in _chunks(len(rows), cancelled):
+        for _ in map(add, rows[s:e].tolist(), range(first_id + s, first_id + e)):
+            pass
+
+
+def add_result_groups(fm, result):
+    """Adds to a FemMesh built from result one face group per CAD face, 'Face<i>', and one per
+    boundary-layer spec, 'BoundaryLayer<k>'. One call per group: FemMesh.addGroupElements walks
+    every element of the mesh on each call (FreeCAD 0.20), so calls are not split."""
+    faces = np.concatenate([result.triangle_face, result.quad_face]).astype(np.int64)
+    ids = np.arange(1, len(faces) + 1)
+    order = np.argsort(faces, kind="stable")
+    faces, ids = faces[order], ids[order]
+    bounds = np.flatnonzero(np.diff(faces)) + 1
+    for chunk_f, chunk_ids in zip(np.split(faces, bounds), np.split(ids, bounds)):
+        if len(chunk_f):
+            fm.addGroupElements(fm.addGroup(f"Face{int(chunk_f[0])}", "Face"), chunk_ids.tolist())
+    # one group per boundary-layer spec: BoundaryLayer1, BoundaryLayer2, ... (spec order)
+    layer = np.concatenate([result.triangle_layer, result.quad_layer]).astype(np.int64)
+    for k in np.unique(layer[layer > 0]).tolist():
+        fm.addGroupElements(fm.addGroup(f"BoundaryLayer{k}", "Face"), (np.flatnonzero(layer == k) + 1).tolist())
+
+
+def result_to_femmesh(result, groups=True, femmesh=None, cancelled=None):
     """A Fem.FemMesh: tria3/quad4 (tria6/quad8 when order 2), node ids = index + 1, element ids
     consecutive (triangles then quads), one face group per CAD face named 'Face<i>' and one per
-    boundary-layer spec named 'BoundaryLayer<k>'."""
+    boundary-layer spec named 'BoundaryLayer<k>'.
+
+    femmesh: an empty Fem.FemMesh to fill (else a new one). The GUI creates it on its own thread
+    and fills it in the meshing worker (groups=False; add_result_groups later, on the GUI thread):
+    filling touches only that mesh's own data, while creating or destroying a FemMesh changes
+    state shared by all of them (the SMESH generator's mesh maps). Nodes and elements are added in
+    short calls, so another Python thread never waits long for the GIL.
+    cancelled: a callable polled between chunks; when it returns True, BuildCancelled is raised."""
     _freecad()
-    import Fem
-    fm = Fem.FemMesh()
+    if femmesh is None:
+        import Fem
+        femmesh = Fem.FemMesh()
+    fm = femmesh
     P = np.asarray(result.nodes, dtype=np.float64)
     add_node = fm.addNode
-    for i, (x, y, z) in enumerate(P.tolist(), start=1):
-        add_node(x, y, z, i)
+    for s, e in _chunks(len(P), cancelled):
+        c = P[s:e]
+        for _ in map(add_node, c[:, 0].tolist(), c[:, 1].tolist(), c[:, 2].tolist(), range(s + 1, e + 1)):
+            pass
     order2 = int(result.order) == 2
     T = np.asarray(result.triangles, dtype=np.int64) + 1
     Q = np.asarray(result.quads, dtype=np.int64) + 1
     if order2:
         T = np.concatenate([T, np.asarray(result.triangle_mid, dtype=np.int64) + 1], axis=1)
         Q = np.concatenate([Q, np.asarray(result.quad_mid, dtype=np.int64) + 1], axis=1) if len(Q) else Q
-    add_face = fm.addFace
-    eid = 0
-    for row in T.tolist():
-        eid += 1
-        add_face(row, eid)
-    for row in Q.tolist():
-        eid += 1
-        add_face(row, eid)
+    _add_rows(fm, T, 1, cancelled)
+    _add_rows(fm, Q, len(T) + 1, cancelled)
     if groups:
-        faces = np.concatenate([result.triangle_face, result.quad_face]).astype(np.int64)
-        ids = np.arange(1, len(faces) + 1)
-        order = np.argsort(faces, kind="stable")
-        faces, ids = faces[order], ids[order]
-        bounds = np.flatnonzero(np.diff(faces)) + 1
-        for chunk_f, chunk_ids in zip(np.split(faces, bounds), np.split(ids, bounds)):
-            if not len(chunk_f):
-                continue
-            g = fm.addGroup(f"Face{int(chunk_f[0])}", "Face")
-            fm.addGroupElements(g, chunk_ids.tolist())
-        # one group per boundary-layer spec: BoundaryLayer1, BoundaryLayer2, ... (spec order)
-        layer = np.concatenate([result.triangle_layer, result.quad_layer]).astype(np.int64)
-        for k in np.unique(layer[layer > 0]).tolist():
-            g = fm.addGroup(f"BoundaryLayer{k}", "Face")
-            fm.addGroupElements(g, (np.flatnonzero(layer == k) + 1).tolist())
+        add_result_groups(fm, result)
     return fm
 
 

@@ -319,7 +319,7 @@ def run_in_background(mesh, title):
         if q.runner.state == "failed":
             QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), title, q.runner.error)
         return False
-    mesh.Proxy.apply_result(mesh, result)
+    mesh.Proxy.apply_result(mesh, result, q.runner.collect_femmesh())
     settle(mesh)
     return True
 

@@ -14,6 +14,7 @@ import threading
 import time
 
 from ..core.api import MeshJob, Cancelled
+from ..app.to_femmesh import BuildCancelled
 
 
 class RunError(Exception):
@@ -30,6 +31,8 @@ class MeshRunner:
         self.params = None
         self.brep = None
         self.result = None
+        self.femmesh = None  # an empty Fem.FemMesh made on the GUI thread, filled by the worker
+        self.t_meshed = None  # when the core finished (the worker then fills femmesh)
         self.error = ""
         self.fraction = 0.0
         self.stage = ""
@@ -58,6 +61,7 @@ class MeshRunner:
         except Exception as e:  # ValueError, TypeError from validation: user errors
             raise RunError(str(e)) from e
         self.brep = shape.exportBrepToString()
+        self.femmesh = _empty_femmesh()
         self.state = "prepared"
         return self
 
@@ -72,6 +76,11 @@ class MeshRunner:
     def collect(self):
         """The MeshResult of a finished run (state 'done'), else None."""
         return self.result if self.state == "done" else None
+
+    def collect_femmesh(self):
+        """The Fem.FemMesh the worker built from the result, nodes and elements but no groups yet
+        (state 'done'; None without FreeCAD)."""
+        return self.femmesh if self.state == "done" else None
 
     def wait(self, timeout=None):
         if self._thread is not None:
@@ -127,8 +136,21 @@ class MeshRunner:
             if cancelled:
                 raise Cancelled("cancelled before the start")
             self.result = job.run(progress=self._progress, log=self._log)
+            self.t_meshed = time.perf_counter()
+            if self.femmesh is not None and not self._cancel:
+                self.stage = "building the FEM mesh"
+                from ..app.to_femmesh import result_to_femmesh
+                # Python work shares the GIL with the GUI thread, whose every Qt call releases
+                # and re-takes it: a short switch interval keeps each re-take short
+                interval = sys.getswitchinterval()
+                sys.setswitchinterval(min(interval, 0.0005))
+                try:
+                    result_to_femmesh(self.result, groups=False, femmesh=self.femmesh,
+                                      cancelled=lambda: self._cancel)
+                finally:
+                    sys.setswitchinterval(interval)
             state = "cancelled" if self._cancel else "done"
-        except Cancelled:
+        except (Cancelled, BuildCancelled):
             state = "cancelled"
         except Exception as e:  # reported in the panel, never as a traceback dialog
             self.error = f"{type(e).__name__}: {e}" if not str(e) else str(e)
@@ -136,10 +158,21 @@ class MeshRunner:
         self.t_end = time.perf_counter()
         self.state = state
         if state != "done":
-            self.result = None
+            self.result = None  # (femmesh stays: a FemMesh must be destroyed on the GUI thread)
         cb = self.on_done
         if cb is not None:
             cb()
+
+
+def _empty_femmesh():
+    """An empty Fem.FemMesh, or None outside FreeCAD. Made here, on the GUI thread: creating and
+    destroying FemMeshes changes state they all share, filling one does not."""
+    try:
+        import FreeCAD  # noqa: F401  (before Fem)
+        import Fem
+    except ImportError:
+        return None
+    return Fem.FemMesh()
 
 
 def lower_thread_priority(step=4):

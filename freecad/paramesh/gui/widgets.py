@@ -505,7 +505,7 @@ class RunBox(QtGui.QWidget):
         t0 = time.perf_counter()
         try:
             obj = self.obj
-            obj.Proxy.apply_result(obj, result)
+            obj.Proxy.apply_result(obj, result, r.collect_femmesh())
             settle(obj)
         except Exception as e:  # shown in the panel
             self._fail(f"could not store the mesh: {e}")

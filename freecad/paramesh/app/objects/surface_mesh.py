@@ -100,9 +100,16 @@ class SurfaceMesh(BaseProxy):
                 out += [m for m in parent.Group if m.isDerivedFrom("Fem::Constraint")]
         return out
 
-    def apply_result(self, obj, result):
-        """Stores a finished MeshResult in the object (also used by the GUI's worker thread)."""
-        fm = result.to_femmesh()
+    def apply_result(self, obj, result, femmesh=None):
+        """Stores a finished MeshResult in the object (also used by the GUI's worker thread).
+        femmesh: the result's nodes and elements already in a Fem.FemMesh without groups (the GUI
+        fills it in its worker thread); the groups are added here."""
+        if femmesh is not None:
+            from ..to_femmesh import add_result_groups
+            fm = femmesh
+            add_result_groups(fm, result)
+        else:
+            fm = result.to_femmesh()
         from ..to_femmesh import add_constraint_groups
         add_constraint_groups(fm, result, obj.Part, self.analysis_constraints(obj))
         obj.FemMesh = fm
