@@ -683,3 +683,28 @@ def test_proposed_leading_edges_are_never_sharp(model):
 def test_bad_boundary_layer_input_raises_clear_errors(spec, error, text):
     with pytest.raises(error, match=text):
         pm.mesh_shape(M6, size=40.0, boundary_layers=[spec])
+
+
+@needs_freecad
+@pytest.mark.parametrize("chamfer", [0.5, 0.6])
+def test_layers_meeting_across_a_chamfer_of_exactly_the_first_height(chamfer):
+    """A 10 x 10 square with one corner chamfered, layers on the two sides beside the chamfer. When
+    the chamfer is exactly h0 long (0.5), each run's end column used to climb along it onto the
+    other run's root, the two first rows crossed, and the face failed ("two boundary segments
+    cross"). An end column now stops before another run's root. The 0.6 chamfer (= h0 + 0.1, no end
+    column) is the comparison; both mesh, rows exact, no quad inverted."""
+    Part = _part()
+    import FreeCAD
+    V = FreeCAD.Vector
+    a = chamfer / math.sqrt(2)
+    face = Part.Face(Part.makePolygon([V(0, 0, 0), V(10, 0, 0), V(10, 10 - a, 0), V(10 - a, 10, 0),
+                                       V(0, 10, 0), V(0, 0, 0)]))
+    assert abs(face.Edges[2].Length - chamfer) < 1e-12 and face.Edges[1].Length > 9
+    r = pm.mesh_shape(face, size=1.0, boundary_layers=[dict(edges=[2, 4], first_height=0.5, growth=1.2,
+                                                            layers=4)])
+    assert r.report["status"] == "ok" and not r.failed_faces, r.report.get("message")
+    bl = r.report["boundary_layers"][0]
+    assert bl["full_columns"] >= 17 and bl["elements"] >= 63, bl   # measured 17 and 63 at 0.5
+    res = measure(r, [2, 4], 0.5, 1.2, 4)
+    assert_rows_exact(res)
+    assert_valid_mesh(res, watertight=False)

@@ -370,6 +370,10 @@ class FaceLayers {
     while (k < law.layers) {
       const int nxt = ((cur + dir) % n + n) % n;
       if (isBL(dir > 0 ? lp[cur] : lp[nxt])) break;
+      // nor onto the root of another run: where a non-BL edge of exactly the first height joins
+      // two BL edges, both runs' end columns would climb along it onto each other's root, and
+      // their first rows would cross (a chamfered square's corner, chamfer 0.5 = h0: Face1 failed)
+      if (isBL(dir > 0 ? lp[nxt] : lp[((nxt - 1) % n + n) % n])) break;
       const double d = dist(lp[cur].xyz, lp[nxt].xyz);
       if (std::fabs(d - law.height(k)) > 1e-3 * law.height(k)) break;
       ++k;
