@@ -162,6 +162,8 @@ struct Mesher::Impl {
   /// (face, spec) whose layer got columns but no element on that face, with its stop counts:
   /// reported as warnings (a layer asked for and not grown is not silent)
   std::map<std::pair<int, int>, FaceBLResult::SpecStats> blEmpty;
+  /// faces whose layers were dropped because the face could not be meshed with them: the reason
+  std::map<int, std::string> blDropped;
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
@@ -1421,7 +1423,39 @@ struct Mesher::Impl {
     }
   }
 
+  /// Meshes face f with its boundary layers. When the face cannot be meshed with them (the rows
+  /// leave a front the triangulation refuses, or no element), it is meshed without them and the
+  /// reason goes to the report's warnings: a layer must never take its face down.
   FaceMeshResult meshFaceWithLayers(int f, const ISurface& s, const FaceBoundary& fb, FaceMeshOptions fo) {
+    const FaceMeshOptions plain = fo;
+    FaceMeshResult r;
+    try {
+      r = meshFaceWithLayersOnly(f, s, fb, fo);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      r.ok = false;
+      r.error = e.what();
+    }
+    {
+      std::lock_guard<std::mutex> g(blMu_);
+      blDropped.erase(f);
+    }
+    if (r.ok) return r;
+    FaceMeshResult without = meshFace(s, fb, field, plain, &progress);
+    if (!without.ok) {
+      r.error += " (and without its boundary layer: " + without.error + ")";
+      return r;
+    }
+    without.quadLayer.assign(without.quads.size(), 0);
+    without.triLayer.assign(without.tris.size(), 0);
+    std::lock_guard<std::mutex> g(blMu_);
+    blDropped[f] = r.error;
+    for (size_t k = 0; k < blStats.size(); ++k) blEmpty.erase({f, (int)k});
+    return without;
+  }
+
+  FaceMeshResult meshFaceWithLayersOnly(int f, const ISurface& s, const FaceBoundary& fb, FaceMeshOptions fo) {
     std::vector<std::vector<LoopPoint>> loops;
     for (const auto& L : fb.loops) {
       std::vector<LoopPoint> lp;
@@ -1430,29 +1464,6 @@ struct Mesher::Impl {
     }
     DomainGuard guard(fb.trueLoops);
     FaceBLResult bl = growFaceLayers(s, model.faceReversed(f), loops, fb.trueLoops, guard, blSpecOf, blLaws, blEnds);
-    {
-      std::lock_guard<std::mutex> g(blMu_);
-      for (size_t k = 0; k < bl.stats.size(); ++k) {
-        auto& a = blStats[k];
-        const auto& b = bl.stats[k];
-        a.columns += b.columns;
-        a.fullColumns += b.fullColumns;
-        a.minLayers = std::min(a.minLayers, b.minLayers);
-        a.maxLayers = std::max(a.maxLayers, b.maxLayers);
-        a.stopBoundary += b.stopBoundary;
-        a.stopCollision += b.stopCollision;
-        a.stopInvalid += b.stopInvalid;
-        a.stopAspect += b.stopAspect;
-        a.stopEnd += b.stopEnd;
-        a.fans += b.fans;
-        a.merges += b.merges;
-        a.elements += b.elements;
-        if (b.columns > 0 && b.elements == 0)
-          blEmpty[{f, (int)k}] = b;
-        else
-          blEmpty.erase({f, (int)k});
-      }
-    }
     FaceBoundary inner;
     inner.trueLoops = fb.trueLoops;
     for (const auto& L : bl.loops) {
@@ -1508,9 +1519,34 @@ struct Mesher::Impl {
     if (r.tris.empty() && r.quads.empty()) {
       r.ok = false;
       r.error = "no element was produced";
+      return r;
+    }
+    {
+      std::lock_guard<std::mutex> g(blMu_);
+      for (size_t k = 0; k < bl.stats.size(); ++k) {
+        auto& a = blStats[k];
+        const auto& b = bl.stats[k];
+        a.columns += b.columns;
+        a.fullColumns += b.fullColumns;
+        a.minLayers = std::min(a.minLayers, b.minLayers);
+        a.maxLayers = std::max(a.maxLayers, b.maxLayers);
+        a.stopBoundary += b.stopBoundary;
+        a.stopCollision += b.stopCollision;
+        a.stopInvalid += b.stopInvalid;
+        a.stopAspect += b.stopAspect;
+        a.stopEnd += b.stopEnd;
+        a.fans += b.fans;
+        a.merges += b.merges;
+        a.elements += b.elements;
+        if (b.columns > 0 && b.elements == 0)
+          blEmpty[{f, (int)k}] = b;
+        else
+          blEmpty.erase({f, (int)k});
+      }
     }
     return r;
   }
+
   std::mutex blMu_;
 
   // ---------------------------------------------------------------- faces
@@ -1822,9 +1858,10 @@ struct Mesher::Impl {
     std::vector<FaceReport> faces;
     std::vector<FaceBLResult::SpecStats> blStats;
     std::map<std::pair<int, int>, FaceBLResult::SpecStats> blEmpty;
+    std::map<int, std::string> blDropped;
   };
   MeshState saveState() const {
-    return {mesh, field, edges, vertexNode, triUv, quadUv, segmentT, report.faces, blStats, blEmpty};
+    return {mesh, field, edges, vertexNode, triUv, quadUv, segmentT, report.faces, blStats, blEmpty, blDropped};
   }
   void restoreState(MeshState&& st) {
     mesh = std::move(st.mesh);
@@ -1837,6 +1874,7 @@ struct Mesher::Impl {
     report.faces = std::move(st.faces);
     blStats = std::move(st.blStats);
     blEmpty = std::move(st.blEmpty);
+    blDropped = std::move(st.blDropped);
     offSurface.clear();
     triDeviation.clear();
   }
@@ -1911,6 +1949,12 @@ struct Mesher::Impl {
       b.merges = st.merges;
       b.elements = st.elements;
       report.boundaryLayers.push_back(b);
+    }
+    for (const auto& [face, why] : blDropped) {
+      const std::string w = "boundary layers dropped on Face" + std::to_string(face + 1) +
+                            ": the face could not be meshed with them (" + why + "); it was meshed without them";
+      report.warnings.push_back(w);
+      log.warn(w);
     }
     // faces where a layer was asked for and no element grew (no two neighbouring columns share a row)
     for (const auto& [key, st] : blEmpty) {
