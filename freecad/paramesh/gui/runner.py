@@ -14,7 +14,7 @@ import threading
 import time
 
 from ..core.api import MeshJob, Cancelled
-from ..app.to_femmesh import BuildCancelled
+from ..app.to_femmesh import BuildCancelled, result_to_femmesh
 
 
 class RunError(Exception):
@@ -98,6 +98,13 @@ class MeshRunner:
             return 0.0
         return (self.t_end or time.perf_counter()) - self.t_start
 
+    @property
+    def mesh_seconds(self):
+        """Seconds of the core's run alone (elapsed also counts the worker filling the FemMesh)."""
+        if self.t_start is None:
+            return 0.0
+        return (self.t_meshed or self.t_end or time.perf_counter()) - self.t_start
+
     def cancel(self):
         """Asks the core to stop; the worker ends with state 'cancelled' (the core polls per face
         and inside long loops)."""
@@ -139,7 +146,6 @@ class MeshRunner:
             self.t_meshed = time.perf_counter()
             if self.femmesh is not None and not self._cancel:
                 self.stage = "building the FEM mesh"
-                from ..app.to_femmesh import result_to_femmesh
                 # Python work shares the GIL with the GUI thread, whose every Qt call releases
                 # and re-takes it: a short switch interval keeps each re-take short
                 interval = sys.getswitchinterval()

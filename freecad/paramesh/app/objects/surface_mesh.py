@@ -104,13 +104,12 @@ class SurfaceMesh(BaseProxy):
         """Stores a finished MeshResult in the object (also used by the GUI's worker thread).
         femmesh: the result's nodes and elements already in a Fem.FemMesh without groups (the GUI
         fills it in its worker thread); the groups are added here."""
+        from ..to_femmesh import add_constraint_groups, add_result_groups
         if femmesh is not None:
-            from ..to_femmesh import add_result_groups
             fm = femmesh
             add_result_groups(fm, result)
         else:
             fm = result.to_femmesh()
-        from ..to_femmesh import add_constraint_groups
         add_constraint_groups(fm, result, obj.Part, self.analysis_constraints(obj))
         obj.FemMesh = fm
         self._result = result  # kept in memory (not saved) for exports and the quality view
