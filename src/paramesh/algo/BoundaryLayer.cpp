@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <unordered_map>
 
@@ -196,6 +197,116 @@ class FaceLayers {
   std::vector<char> specQuads_;
   std::vector<Vec3> otherPts_;  ///< points of already grown runs (collision tests)
   std::vector<double> otherH_;
+  /// segments of already grown runs' grids in (u,v): their marched columns and their rows
+  struct Seg {
+    Vec2 a, b;
+    Vec3 A, B;
+  };
+  std::vector<Seg> otherSegs_;
+
+  /// Whether (a, b) crosses a column or a row of a run grown before. A column's steps are tested
+  /// against the other runs' points by distance (nearOther), which a step can pass between two
+  /// columns of another run without coming near either (a V notch's apex fan ran below the
+  /// bottom layer's first row); in (u,v), on one face, a crossing is a crossing whatever the
+  /// spacing.
+  bool crossesOther(Vec2 a, Vec2 b) const {
+    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
+    for (const Seg& s : otherSegs_) {
+      if (std::max(s.a.x, s.b.x) < x0 || std::min(s.a.x, s.b.x) > x1 || std::max(s.a.y, s.b.y) < y0 ||
+          std::min(s.a.y, s.b.y) > y1)
+        continue;
+      if (segmentsCross(a, b, s.a, s.b)) return true;
+    }
+    return false;
+  }
+
+  /// Distance from x to the face's boundary (the loops' chords, in 3D), apart from the two
+  /// segments at the column's root (L, root) and the run's own segments in loop L (own[i] and
+  /// own[i + 1]: its BL edge and the neighbouring edges' segments its end columns stand on).
+  double boundaryDistance(Vec3 x, int L, int root, const std::vector<char>& own) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t M = 0; M < loops_.size(); ++M) {
+      const auto& lp = loops_[M];
+      const int n = (int)lp.size();
+      for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        if ((int)M == L && (i == root || j == root || (own[i] && own[j]))) continue;
+        const Vec3 &a = lp[i].xyz, &b = lp[j].xyz;
+        const Vec3 e = b - a;
+        const double l2 = norm2(e);
+        const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
+        best = std::min(best, dist(x, a + t * e));
+      }
+    }
+    return best;
+  }
+
+  /// Whether a boundary point (a loop point other than the run's own in loop L) lies within d of
+  /// the row (a, b), farther than d from its ends: a row through a vertex of the boundary touches it without
+  /// crossing it, and leaves triangles of zero area beside it (a notch's apex exactly one first
+  /// height above a layer: the bottom layer's first row ran through it).
+  bool boundaryPointNear(Vec3 a, Vec3 b, double d, int L, const std::vector<char>& own) const {
+    const Vec3 e = b - a;
+    const double l2 = norm2(e);
+    if (!(l2 > 0)) return false;
+    for (size_t M = 0; M < loops_.size(); ++M) {
+      const auto& lp = loops_[M];
+      for (size_t i = 0; i < lp.size(); ++i) {
+        if ((int)M == L && own[i]) continue;
+        const Vec3& p = lp[i].xyz;
+        const double t = dot(p - a, e) / l2;
+        if (t <= 0 || t >= 1) continue;
+        // a point beside an end is that end column's neighbour (an end column marched along a
+        // neighbouring edge runs within a hair of that edge's nodes)
+        if (dist(p, a + t * e) < d && std::min(dist(p, a), dist(p, b)) > d) return true;
+      }
+    }
+    return false;
+  }
+
+  /// A step from p to x that heads into the boundary (closing on it by at least half its length)
+  /// and ends within d of it. A column stopped only when it crosses the boundary can end a hair
+  /// above it: a V notch's apex fan column ended 0.0011 above the bottom edge (h0 0.03), and the
+  /// triangles between them had angles of 0.2 and 179.4 degrees. Columns that run beside the
+  /// boundary (the M6's next to its tip edge, rows taller than their distance to it) go on.
+  bool closesOnBoundary(Vec3 p, Vec3 x, double d, int L, int root, const std::vector<char>& own) const {
+    const double dx = boundaryDistance(x, L, root, own);
+    if (!(dx < d)) return false;
+    return boundaryDistance(p, L, root, own) - dx > 0.5 * dist(p, x);
+  }
+
+  /// Whether x lies within d of a column or a row of a run grown before (3D distance to the
+  /// segments). The points alone (nearOther) let a column end just below another run's row
+  /// between two of its columns, far from both: on a 2-wide curved strip of bearing.iges (Face94)
+  /// with layers on both long sides, one run's front ended 0.016 below the other's, and the
+  /// triangles between had angles of 0.18 and 179.3 degrees. The distance is a quarter of the
+  /// row height (half of it stopped one column at the chamfered corner of
+  /// test_layers_meeting_across_a_chamfer_of_exactly_the_first_height, and the rule that stops
+  /// columns converging on a stopped neighbour then took the last row off the whole run).
+  bool nearOtherGrid(Vec3 x, double d) const {
+    for (const Seg& s : otherSegs_) {
+      const Vec3 e = s.B - s.A;
+      const double l2 = norm2(e);
+      const double t = l2 > 0 ? std::clamp(dot(x - s.A, e) / l2, 0.0, 1.0) : 0.0;
+      if (dist(x, s.A + t * e) < d) return true;
+    }
+    return false;
+  }
+
+  /// Records a grown run's grid for crossesOther: the segments of its marched columns and its
+  /// rows above the BL edge (end columns run along the boundary, which crossesLoops guards).
+  void recordGrid(const std::vector<Column>& cols, bool closed) {
+    const int m = (int)cols.size();
+    for (const Column& c : cols)
+      if (!c.fixed)
+        for (size_t k = 0; k + 1 < c.uv.size(); ++k) otherSegs_.push_back({c.uv[k], c.uv[k + 1], c.xyz[k], c.xyz[k + 1]});
+    const int pairs = closed ? m : m - 1;
+    for (int i = 0; i < pairs; ++i) {
+      const Column &A = cols[i], &B = cols[(i + 1) % m];
+      const size_t kmax = std::min(A.uv.size(), B.uv.size());
+      for (size_t k = 1; k < kmax; ++k) otherSegs_.push_back({A.uv[k], B.uv[k], A.xyz[k], B.xyz[k]});
+    }
+  }
 
   bool isBL(const LoopPoint& p) const { return p.edge >= 0 && specOf_[p.edge] >= 0; }
 
@@ -569,8 +680,25 @@ class FaceLayers {
     }
   }
 
+  /// The run's own points in loop L: its roots and its end columns' points (loop points too).
+  std::vector<char> ownPoints(int L, const std::vector<Column>& cols) const {
+    std::vector<char> own(loops_[L].size(), 0);
+    std::vector<int> nodes;
+    for (const Column& c : cols) {
+      if (c.root >= 0 && c.root < (int)own.size()) own[c.root] = 1;
+      if (c.fixed)
+        for (int r : c.ref)
+          if (r >= 0) nodes.push_back(r);
+    }
+    std::sort(nodes.begin(), nodes.end());
+    for (size_t i = 0; i < own.size(); ++i)
+      if (loops_[L][i].node >= 0 && std::binary_search(nodes.begin(), nodes.end(), loops_[L][i].node)) own[i] = 1;
+    return own;
+  }
+
   void march(int L, std::vector<Column>& cols, bool closed) {
     const int m = (int)cols.size();
+    const std::vector<char> own = ownPoints(L, cols);
     int maxLayers = 0;
     for (auto& c : cols) maxLayers = std::max(maxLayers, laws_[c.spec].layers);
     for (int k = 0; k < maxLayers; ++k) {
@@ -602,12 +730,13 @@ class FaceLayers {
         const bool okStep = step(c.uv.back(), c.xyz.back(), marchDirection(cols, i, k), h, uv, x);
         const bool okIn = okStep && guard_.inside(uv);
         const bool okCross = okIn && !crossesLoops(c.uv.back(), uv, L, k == 0 ? c.root : -1, k == 0 ? ((c.root - 1 + (int)loops_[L].size()) % (int)loops_[L].size()) : -1);
-        if (!okCross) {
+        if (!okCross || closesOnBoundary(c.xyz.back(), x, 0.5 * law.height(k), L, c.root, own)) {
           c.active = false;
           c.stop = 1;
           continue;
         }
-        if (nearOther(x, 0.5 * law.height(k))) {
+        if (nearOther(x, 0.5 * law.height(k)) || crossesOther(c.uv.back(), uv) ||
+            nearOtherGrid(x, 0.25 * law.height(k))) {
           c.active = false;
           c.stop = 2;
           continue;
@@ -657,8 +786,10 @@ class FaceLayers {
           // hub Face5, 2.7 from the BL circle) can poke between two of them. An end column's
           // points lie on the boundary: its rows touch it there, which is no crossing (only a
           // proper crossing or a collinear overlap counts)
-          const bool crossing = crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1);
-          if (!crossing &&
+          const bool crossing = crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1) ||
+                                boundaryPointNear(A.xyz[k + 1], B.xyz[k + 1], 0.25 * laws_[A.spec].height(k), L, own);
+          const bool collision = !crossing && crossesOther(A.uv[k + 1], B.uv[k + 1]);
+          if (!crossing && !collision &&
               quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
             continue;
           for (Column* c : {&A, &B}) {
@@ -667,7 +798,7 @@ class FaceLayers {
             c->xyz.pop_back();
             c->ref.pop_back();
             c->active = false;
-            c->stop = crossing ? 1 : 3;
+            c->stop = crossing ? 1 : collision ? 2 : 3;
             changed = true;
           }
         }
@@ -941,6 +1072,7 @@ class FaceLayers {
     const int m = (int)cols.size();
     untangle(cols, closed);
     trimNeedles(cols, closed);  // untangling may have cut a neighbour down
+    recordGrid(cols, closed);
     // node refs for marched points
     for (auto& c : cols)
       for (size_t k = 1; k < c.xyz.size(); ++k)
