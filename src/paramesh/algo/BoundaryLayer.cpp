@@ -168,6 +168,60 @@ struct Column {
   double wEnd[2] = {0, 0};  ///< blending weights towards the run's start / end outermost column
 };
 
+/// Segments in 3D buckets (cubes of side `cell`): each segment is listed in the buckets met by
+/// the boxes of its pieces of at most one cell, so that a query near a point looks at a few
+/// buckets instead of every segment (the layer collision tests ran once per step over every
+/// segment of the face: +36 % face time on the M6 with 2 852 columns).
+class SegmentBuckets {
+ public:
+  explicit SegmentBuckets(double cell = 1.0) : cell_(cell > 0 && std::isfinite(cell) ? cell : 1.0) {}
+  void add(int id, Vec3 a, Vec3 b) {
+    const int n = std::clamp((int)std::ceil(dist(a, b) / cell_), 1, 4096);
+    Vec3 p = a;
+    for (int k = 1; k <= n; ++k) {
+      const Vec3 q = a + (double(k) / n) * (b - a);
+      forCells(lo(p, q), hi(p, q), [&](int64_t key) {
+        auto& v = map_[key];
+        if (v.empty() || v.back() != id) v.push_back(id);
+      });
+      p = q;
+    }
+  }
+  /// Calls f(id) for the segments listed in the buckets that the box [l, h] meets (an id can
+  /// come more than once).
+  template <class F>
+  void visit(Vec3 l, Vec3 h, F&& f) const {
+    if (cells(l, h) > (int64_t)map_.size()) {  // a query larger than the listed buckets: all of them
+      for (const auto& kv : map_)
+        for (int id : kv.second) f(id);
+      return;
+    }
+    forCells(l, h, [&](int64_t key) {
+      auto it = map_.find(key);
+      if (it != map_.end())
+        for (int id : it->second) f(id);
+    });
+  }
+  static Vec3 lo(Vec3 a, Vec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
+  static Vec3 hi(Vec3 a, Vec3 b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+
+ private:
+  double cell_;
+  std::unordered_map<int64_t, std::vector<int>> map_;
+  int64_t idx(double x) const { return (int64_t)std::floor(x / cell_); }
+  int64_t cells(Vec3 l, Vec3 h) const {
+    return (idx(h.x) - idx(l.x) + 1) * (idx(h.y) - idx(l.y) + 1) * (idx(h.z) - idx(l.z) + 1);
+  }
+  template <class F>
+  void forCells(Vec3 l, Vec3 h, F&& f) const {
+    const int64_t i0 = idx(l.x), i1 = idx(h.x), j0 = idx(l.y), j1 = idx(h.y), k0 = idx(l.z), k1 = idx(h.z);
+    for (int64_t i = i0; i <= i1; ++i)
+      for (int64_t j = j0; j <= j1; ++j)
+        for (int64_t k = k0; k <= k1; ++k)
+          f(((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF));
+  }
+};
+
 class FaceLayers {
  public:
   FaceLayers(const ISurface& s, const std::vector<std::vector<LoopPoint>>& loops,
@@ -179,6 +233,22 @@ class FaceLayers {
     const UVBox b = s.bounds();
     uspan_ = std::max(b.u1 - b.u0, 1e-300);
     vspan_ = std::max(b.v1 - b.v0, 1e-300);
+    // buckets about as large as the boundary's segments (the columns' spacing)
+    double total = 0;
+    int count = 0;
+    for (const auto& lp : loops_)
+      for (size_t i = 0; i < lp.size(); ++i) {
+        total += dist(lp[i].xyz, lp[(i + 1) % lp.size()].xyz);
+        ++count;
+      }
+    const double cell = count ? total / count : 1.0;
+    loopBuckets_ = SegmentBuckets(cell);
+    otherBuckets_ = SegmentBuckets(cell);
+    for (size_t L = 0; L < loops_.size(); ++L)
+      for (size_t i = 0; i < loops_[L].size(); ++i) {
+        loopSegs_.emplace_back((int)L, (int)i);
+        loopBuckets_.add((int)loopSegs_.size() - 1, loops_[L][i].xyz, loops_[L][(i + 1) % loops_[L].size()].xyz);
+      }
   }
 
   void run() {
@@ -203,41 +273,46 @@ class FaceLayers {
     Vec3 A, B;
   };
   std::vector<Seg> otherSegs_;
+  SegmentBuckets otherBuckets_;                 ///< otherSegs_ by position
+  std::vector<std::pair<int, int>> loopSegs_;  ///< (loop, first point) of every boundary segment
+  SegmentBuckets loopBuckets_;                  ///< loopSegs_ by position
 
   /// Whether (a, b) crosses a column or a row of a run grown before. A column's steps are tested
   /// against the other runs' points by distance (nearOther), which a step can pass between two
   /// columns of another run without coming near either (a V notch's apex fan ran below the
   /// bottom layer's first row); in (u,v), on one face, a crossing is a crossing whatever the
   /// spacing.
-  bool crossesOther(Vec2 a, Vec2 b) const {
-    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
-    for (const Seg& s : otherSegs_) {
-      if (std::max(s.a.x, s.b.x) < x0 || std::min(s.a.x, s.b.x) > x1 || std::max(s.a.y, s.b.y) < y0 ||
-          std::min(s.a.y, s.b.y) > y1)
-        continue;
-      if (segmentsCross(a, b, s.a, s.b)) return true;
-    }
-    return false;
+  bool crossesOther(Vec2 a, Vec2 b, Vec3 A, Vec3 B) const { return crossesIn(otherSegs_, otherBuckets_, a, b, A, B); }
+
+  /// Whether (a, b) (3D chord A B) crosses one of segs in (u,v). Segments that cross in (u,v)
+  /// meet on the surface: their chords lie within their sags of each other in 3D, well inside a
+  /// margin of the step's own length.
+  static bool crossesIn(const std::vector<Seg>& segs, const SegmentBuckets& buckets, Vec2 a, Vec2 b, Vec3 A, Vec3 B) {
+    const double m = dist(A, B);
+    const Vec3 pad{m, m, m};
+    bool hit = false;
+    buckets.visit(SegmentBuckets::lo(A, B) - pad, SegmentBuckets::hi(A, B) + pad, [&](int id) {
+      if (!hit && segmentsCross(a, b, segs[id].a, segs[id].b)) hit = true;
+    });
+    return hit;
   }
 
-  /// Distance from x to the face's boundary (the loops' chords, in 3D), apart from the two
-  /// segments at the column's root (L, root) and the run's own segments in loop L (own[i] and
-  /// own[i + 1]: its BL edge and the neighbouring edges' segments its end columns stand on).
-  double boundaryDistance(Vec3 x, int L, int root, const std::vector<char>& own) const {
+  /// Only segments within r of x are sure to count: farther ones may or may not (infinity when
+  /// none is found).
+  double boundaryDistance(Vec3 x, double r, int L, int root, const std::vector<char>& own) const {
     double best = std::numeric_limits<double>::infinity();
-    for (size_t M = 0; M < loops_.size(); ++M) {
+    const Vec3 pad{r, r, r};
+    loopBuckets_.visit(x - pad, x + pad, [&](int id) {
+      const auto [M, i] = loopSegs_[id];
       const auto& lp = loops_[M];
-      const int n = (int)lp.size();
-      for (int i = 0; i < n; ++i) {
-        const int j = (i + 1) % n;
-        if ((int)M == L && (i == root || j == root || (own[i] && own[j]))) continue;
-        const Vec3 &a = lp[i].xyz, &b = lp[j].xyz;
-        const Vec3 e = b - a;
-        const double l2 = norm2(e);
-        const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
-        best = std::min(best, dist(x, a + t * e));
-      }
-    }
+      const int j = (i + 1) % (int)lp.size();
+      if (M == L && (i == root || j == root || (own[i] && own[j]))) return;
+      const Vec3 &a = lp[i].xyz, &b = lp[j].xyz;
+      const Vec3 e = b - a;
+      const double l2 = norm2(e);
+      const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
+      best = std::min(best, dist(x, a + t * e));
+    });
     return best;
   }
 
@@ -249,19 +324,19 @@ class FaceLayers {
     const Vec3 e = b - a;
     const double l2 = norm2(e);
     if (!(l2 > 0)) return false;
-    for (size_t M = 0; M < loops_.size(); ++M) {
-      const auto& lp = loops_[M];
-      for (size_t i = 0; i < lp.size(); ++i) {
-        if ((int)M == L && own[i]) continue;
-        const Vec3& p = lp[i].xyz;
-        const double t = dot(p - a, e) / l2;
-        if (t <= 0 || t >= 1) continue;
-        // a point beside an end is that end column's neighbour (an end column marched along a
-        // neighbouring edge runs within a hair of that edge's nodes)
-        if (dist(p, a + t * e) < d && std::min(dist(p, a), dist(p, b)) > d) return true;
-      }
-    }
-    return false;
+    const Vec3 pad{d, d, d};
+    bool hit = false;
+    loopBuckets_.visit(SegmentBuckets::lo(a, b) - pad, SegmentBuckets::hi(a, b) + pad, [&](int id) {
+      const auto [M, i] = loopSegs_[id];  // its first point, which lies in the segment's buckets
+      if (hit || (M == L && own[i])) return;
+      const Vec3& p = loops_[M][i].xyz;
+      const double t = dot(p - a, e) / l2;
+      if (t <= 0 || t >= 1) return;
+      // a point beside an end is that end column's neighbour (an end column marched along a
+      // neighbouring edge runs within a hair of that edge's nodes)
+      if (dist(p, a + t * e) < d && std::min(dist(p, a), dist(p, b)) > d) hit = true;
+    });
+    return hit;
   }
 
   /// A step from p to x that heads into the boundary (closing on it by at least half its length)
@@ -270,9 +345,11 @@ class FaceLayers {
   /// triangles between them had angles of 0.2 and 179.4 degrees. Columns that run beside the
   /// boundary (the M6's next to its tip edge, rows taller than their distance to it) go on.
   bool closesOnBoundary(Vec3 p, Vec3 x, double d, int L, int root, const std::vector<char>& own) const {
-    const double dx = boundaryDistance(x, L, root, own);
+    const double dx = boundaryDistance(x, d, L, root, own);
     if (!(dx < d)) return false;
-    return boundaryDistance(p, L, root, own) - dx > 0.5 * dist(p, x);
+    // the distance at p is at most dx + |p - x|: a search of that radius finds it
+    const double step = dist(p, x);
+    return boundaryDistance(p, dx + step, L, root, own) - dx > 0.5 * step;
   }
 
   /// Whether x lies within d of a column or a row of a run grown before (3D distance to the
@@ -284,13 +361,22 @@ class FaceLayers {
   /// test_layers_meeting_across_a_chamfer_of_exactly_the_first_height, and the rule that stops
   /// columns converging on a stopped neighbour then took the last row off the whole run).
   bool nearOtherGrid(Vec3 x, double d) const {
-    for (const Seg& s : otherSegs_) {
+    const Vec3 pad{d, d, d};
+    bool hit = false;
+    otherBuckets_.visit(x - pad, x + pad, [&](int id) {
+      if (hit) return;
+      const Seg& s = otherSegs_[id];
       const Vec3 e = s.B - s.A;
       const double l2 = norm2(e);
       const double t = l2 > 0 ? std::clamp(dot(x - s.A, e) / l2, 0.0, 1.0) : 0.0;
-      if (dist(x, s.A + t * e) < d) return true;
-    }
-    return false;
+      if (dist(x, s.A + t * e) < d) hit = true;
+    });
+    return hit;
+  }
+
+  void addOther(const Seg& g) {
+    otherSegs_.push_back(g);
+    otherBuckets_.add((int)otherSegs_.size() - 1, g.A, g.B);
   }
 
   /// Records a grown run's grid for crossesOther: the segments of its marched columns and its
@@ -299,12 +385,12 @@ class FaceLayers {
     const int m = (int)cols.size();
     for (const Column& c : cols)
       if (!c.fixed)
-        for (size_t k = 0; k + 1 < c.uv.size(); ++k) otherSegs_.push_back({c.uv[k], c.uv[k + 1], c.xyz[k], c.xyz[k + 1]});
+        for (size_t k = 0; k + 1 < c.uv.size(); ++k) addOther({c.uv[k], c.uv[k + 1], c.xyz[k], c.xyz[k + 1]});
     const int pairs = closed ? m : m - 1;
     for (int i = 0; i < pairs; ++i) {
       const Column &A = cols[i], &B = cols[(i + 1) % m];
       const size_t kmax = std::min(A.uv.size(), B.uv.size());
-      for (size_t k = 1; k < kmax; ++k) otherSegs_.push_back({A.uv[k], B.uv[k], A.xyz[k], B.xyz[k]});
+      for (size_t k = 1; k < kmax; ++k) addOther({A.uv[k], B.uv[k], A.xyz[k], B.xyz[k]});
     }
   }
 
@@ -735,7 +821,7 @@ class FaceLayers {
           c.stop = 1;
           continue;
         }
-        if (nearOther(x, 0.5 * law.height(k)) || crossesOther(c.uv.back(), uv) ||
+        if (nearOther(x, 0.5 * law.height(k)) || crossesOther(c.uv.back(), uv, c.xyz.back(), x) ||
             nearOtherGrid(x, 0.25 * law.height(k))) {
           c.active = false;
           c.stop = 2;
@@ -788,7 +874,7 @@ class FaceLayers {
           // proper crossing or a collinear overlap counts)
           const bool crossing = crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1) ||
                                 boundaryPointNear(A.xyz[k + 1], B.xyz[k + 1], 0.25 * laws_[A.spec].height(k), L, own);
-          const bool collision = !crossing && crossesOther(A.uv[k + 1], B.uv[k + 1]);
+          const bool collision = !crossing && crossesOther(A.uv[k + 1], B.uv[k + 1], A.xyz[k + 1], B.xyz[k + 1]);
           if (!crossing && !collision &&
               quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
             continue;
