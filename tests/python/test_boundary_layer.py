@@ -778,6 +778,30 @@ def test_layers_facing_each_other_across_a_strip_meet_without_slivers():
     assert q["angle_min"] > 10 and q["angle_max"] < 160, q               # measured 13.7 and 146.5
 
 
+def test_a_row_does_not_pass_just_below_another_layers_front():
+    """A 10 x 4 plate with a 1-wide slot from the top down to y = 1, layers on the base, on the
+    top on both sides of the slot, and on the slot's bottom (h0 0.3, 4 rows: 1.61 thick, more
+    than the 1 between the slot and the base). The slot's layer, grown first, ended 0.02 to 0.04
+    above the base layer's first row, which ran under the slot between two columns 2 apart
+    without crossing it: triangles of 0.9 and 177.6 degrees between the two. A row that passes
+    within a quarter row height of another layer's points now stops its columns."""
+    Part = _part()
+    import FreeCAD
+    V = FreeCAD.Vector
+    pts = [V(0, 0, 0), V(10, 0, 0), V(10, 4, 0), V(5.5, 4, 0), V(5.5, 1, 0), V(4.5, 1, 0), V(4.5, 4, 0),
+           V(0, 4, 0)]
+    face = Part.Face(Part.makePolygon(pts + [pts[0]]))
+    r = pm.mesh_shape(face, size=2.0, boundary_layers=[dict(edges=[1, 3, 5, 7], first_height=0.3, growth=1.2,
+                                                            layers=4)])
+    assert r.report["status"] == "ok" and not r.failed_faces, r.report.get("message")
+    assert not [w for w in r.report["warnings"] if "dropped" in w], r.report["warnings"]
+    res = measure(r, [1, 3, 5, 7], 0.3, 1.2, 4)
+    assert_rows_exact(res)
+    assert_valid_mesh(res, watertight=False)
+    q = r.report["quality"]
+    assert q["angle_min"] > 5 and q["angle_max"] < 165, q                # measured 6.1 and 159.5
+
+
 def test_crankarm_face_where_two_runs_collide_keeps_its_layer():
     """Found by a sweep of random layers: with these eight edges, CrankArm's Face19 failed ("two
     boundary segments cross") and the run was 'degraded'; at stop 25 Face19 was meshed without its

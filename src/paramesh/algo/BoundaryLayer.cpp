@@ -374,6 +374,26 @@ class FaceLayers {
     return hit;
   }
 
+  /// Whether a point of a run grown before lies within d of the row (a, b): rows are tested
+  /// for crossings, yet a row can pass just below another run's front without crossing it (a
+  /// slot's bottom layer ended 0.02 to 0.04 above the base layer's first row, which ran under
+  /// the slot between two columns 2 apart: angles of 0.9 and 177.6 degrees).
+  bool otherPointNearRow(Vec3 a, Vec3 b, double d) const {
+    const Vec3 e = b - a;
+    const double l2 = norm2(e);
+    if (!(l2 > 0)) return false;
+    const Vec3 pad{d, d, d};
+    bool hit = false;
+    otherBuckets_.visit(SegmentBuckets::lo(a, b) - pad, SegmentBuckets::hi(a, b) + pad, [&](int id) {
+      if (hit) return;
+      for (const Vec3& p : {otherSegs_[id].A, otherSegs_[id].B}) {
+        const double t = std::clamp(dot(p - a, e) / l2, 0.0, 1.0);
+        if (dist(p, a + t * e) < d) hit = true;
+      }
+    });
+    return hit;
+  }
+
   void addOther(const Seg& g) {
     otherSegs_.push_back(g);
     otherBuckets_.add((int)otherSegs_.size() - 1, g.A, g.B);
@@ -874,7 +894,8 @@ class FaceLayers {
           // proper crossing or a collinear overlap counts)
           const bool crossing = crossesLoops(A.uv[k + 1], B.uv[k + 1], -1, -1, -1) ||
                                 boundaryPointNear(A.xyz[k + 1], B.xyz[k + 1], 0.25 * laws_[A.spec].height(k), L, own);
-          const bool collision = !crossing && crossesOther(A.uv[k + 1], B.uv[k + 1], A.xyz[k + 1], B.xyz[k + 1]);
+          const bool collision = !crossing && (crossesOther(A.uv[k + 1], B.uv[k + 1], A.xyz[k + 1], B.xyz[k + 1]) ||
+                                               otherPointNearRow(A.xyz[k + 1], B.xyz[k + 1], 0.25 * laws_[A.spec].height(k)));
           if (!crossing && !collision &&
               quadValid(A.uv[k], B.uv[k], B.uv[k + 1], A.uv[k + 1], A.xyz[k], B.xyz[k], B.xyz[k + 1], A.xyz[k + 1]))
             continue;
