@@ -168,6 +168,14 @@ struct Column {
   double wEnd[2] = {0, 0};  ///< blending weights towards the run's start / end outermost column
 };
 
+/// Distance from x to the segment (a, b) in 3D.
+double segmentDistance(Vec3 x, Vec3 a, Vec3 b) {
+  const Vec3 e = b - a;
+  const double l2 = norm2(e);
+  const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
+  return dist(x, a + t * e);
+}
+
 /// Segments in 3D buckets (cubes of side `cell`): each segment is listed in the buckets met by
 /// the boxes of its pieces of at most one cell, so that a query near a point looks at a few
 /// buckets instead of every segment (the layer collision tests ran once per step over every
@@ -307,11 +315,7 @@ class FaceLayers {
       const auto& lp = loops_[M];
       const int j = (i + 1) % (int)lp.size();
       if (M == L && (i == root || j == root || (own[i] && own[j]))) return;
-      const Vec3 &a = lp[i].xyz, &b = lp[j].xyz;
-      const Vec3 e = b - a;
-      const double l2 = norm2(e);
-      const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
-      best = std::min(best, dist(x, a + t * e));
+      best = std::min(best, segmentDistance(x, lp[i].xyz, lp[j].xyz));
     });
     return best;
   }
@@ -364,12 +368,7 @@ class FaceLayers {
     const Vec3 pad{d, d, d};
     bool hit = false;
     otherBuckets_.visit(x - pad, x + pad, [&](int id) {
-      if (hit) return;
-      const Seg& s = otherSegs_[id];
-      const Vec3 e = s.B - s.A;
-      const double l2 = norm2(e);
-      const double t = l2 > 0 ? std::clamp(dot(x - s.A, e) / l2, 0.0, 1.0) : 0.0;
-      if (dist(x, s.A + t * e) < d) hit = true;
+      if (!hit && segmentDistance(x, otherSegs_[id].A, otherSegs_[id].B) < d) hit = true;
     });
     return hit;
   }
@@ -379,17 +378,11 @@ class FaceLayers {
   /// slot's bottom layer ended 0.02 to 0.04 above the base layer's first row, which ran under
   /// the slot between two columns 2 apart: angles of 0.9 and 177.6 degrees).
   bool otherPointNearRow(Vec3 a, Vec3 b, double d) const {
-    const Vec3 e = b - a;
-    const double l2 = norm2(e);
-    if (!(l2 > 0)) return false;
     const Vec3 pad{d, d, d};
     bool hit = false;
     otherBuckets_.visit(SegmentBuckets::lo(a, b) - pad, SegmentBuckets::hi(a, b) + pad, [&](int id) {
-      if (hit) return;
-      for (const Vec3& p : {otherSegs_[id].A, otherSegs_[id].B}) {
-        const double t = std::clamp(dot(p - a, e) / l2, 0.0, 1.0);
-        if (dist(p, a + t * e) < d) hit = true;
-      }
+      if (!hit && (segmentDistance(otherSegs_[id].A, a, b) < d || segmentDistance(otherSegs_[id].B, a, b) < d))
+        hit = true;
     });
     return hit;
   }
