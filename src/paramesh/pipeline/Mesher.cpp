@@ -1339,32 +1339,45 @@ struct Mesher::Impl {
       for (int v : tris[t])
         if (movable(v)) around[v].push_back((int)t);
     auto quality = [&](int t) { return gamma3(P(tris[t][0]), P(tris[t][1]), P(tris[t][2])); };
+    // the triangles standing on a top edge with a movable apex, found once (in triangle and edge
+    // order, as the passes use them): the passes move nodes, never the connectivity
+    struct OnFront {
+      int t, k;
+      double hl;
+    };
+    std::vector<OnFront> onFront;
+    for (size_t t = 0; t < tris.size(); ++t) {
+      const auto& T = tris[t];
+      for (int k = 0; k < 3; ++k) {
+        const int a = T[k], b = T[(k + 1) % 3], c = T[(k + 2) % 3];
+        auto it = quadEdges.find({std::min(a, b), std::max(a, b)});
+        if (it == quadEdges.end() || it->second.first != 1 || !movable(c)) continue;
+        onFront.push_back({(int)t, k, it->second.second});
+      }
+    }
     for (int pass = 0; pass < 3; ++pass) {
       std::map<int, std::pair<Vec3, int>> wish;  // apex -> sum of wished positions, count
-      for (size_t t = 0; t < tris.size(); ++t) {
-        const auto& T = tris[t];
-        for (int k = 0; k < 3; ++k) {
-          const int a = T[k], b = T[(k + 1) % 3], c = T[(k + 2) % 3];
-          auto it = quadEdges.find({std::min(a, b), std::max(a, b)});
-          if (it == quadEdges.end() || it->second.first != 1 || !movable(c)) continue;
-          const double hl = it->second.second;
-          const Vec3 A = P(a), B = P(b), C = P(c);
-          const double L = dist(A, B);
-          if (!(L > 0) || !(hl > 0)) continue;
-          const Vec3 e = (1.0 / L) * (B - A);
-          const Vec3 m = 0.5 * (A + B);
-          Vec3 up = (C - m) - dot(C - m, e) * e;  // towards the apex, across the edge
-          const double ht = norm(up);
-          if (!(ht > 0)) continue;
-          up = (1.0 / ht) * up;
-          const double target = std::clamp(ht, hl / 1.25, 1.25 * hl);
-          if (std::fabs(target - ht) < 1e-3 * hl) continue;
-          // keep the apex's position along the edge; change only its height
-          const Vec3 want = C + (target - ht) * up;
-          auto& w = wish[c];
-          w.first += want;
-          ++w.second;
-        }
+      for (const OnFront& f : onFront) {
+        const auto& T = tris[f.t];
+        const int k = f.k;
+        const int a = T[k], b = T[(k + 1) % 3], c = T[(k + 2) % 3];
+        const double hl = f.hl;
+        const Vec3 A = P(a), B = P(b), C = P(c);
+        const double L = dist(A, B);
+        if (!(L > 0) || !(hl > 0)) continue;
+        const Vec3 e = (1.0 / L) * (B - A);
+        const Vec3 m = 0.5 * (A + B);
+        Vec3 up = (C - m) - dot(C - m, e) * e;  // towards the apex, across the edge
+        const double ht = norm(up);
+        if (!(ht > 0)) continue;
+        up = (1.0 / ht) * up;
+        const double target = std::clamp(ht, hl / 1.25, 1.25 * hl);
+        if (std::fabs(target - ht) < 1e-3 * hl) continue;
+        // keep the apex's position along the edge; change only its height
+        const Vec3 want = C + (target - ht) * up;
+        auto& w = wish[c];
+        w.first += want;
+        ++w.second;
       }
       if (wish.empty()) return;
       int moved = 0;
