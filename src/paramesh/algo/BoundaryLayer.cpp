@@ -285,22 +285,18 @@ class FaceLayers {
   std::vector<std::pair<int, int>> loopSegs_;  ///< (loop, first point) of every boundary segment
   SegmentBuckets loopBuckets_;                  ///< loopSegs_ by position
 
-  /// Whether (a, b) crosses a column or a row of a run grown before. A column's steps are tested
-  /// against the other runs' points by distance (nearOther), which a step can pass between two
-  /// columns of another run without coming near either (a V notch's apex fan ran below the
-  /// bottom layer's first row); in (u,v), on one face, a crossing is a crossing whatever the
-  /// spacing.
-  bool crossesOther(Vec2 a, Vec2 b, Vec3 A, Vec3 B) const { return crossesIn(otherSegs_, otherBuckets_, a, b, A, B); }
-
-  /// Whether (a, b) (3D chord A B) crosses one of segs in (u,v). Segments that cross in (u,v)
-  /// meet on the surface: their chords lie within their sags of each other in 3D, well inside a
-  /// margin of the step's own length.
-  static bool crossesIn(const std::vector<Seg>& segs, const SegmentBuckets& buckets, Vec2 a, Vec2 b, Vec3 A, Vec3 B) {
+  /// Whether (a, b) (3D chord A B) crosses a column or a row of a run grown before. A column's
+  /// steps are tested against the other runs' points by distance (nearOther), which a step can
+  /// pass between two columns of another run without coming near either (a V notch's apex fan
+  /// ran below the bottom layer's first row); in (u,v), on one face, a crossing is a crossing
+  /// whatever the spacing. Segments that cross in (u,v) meet on the surface: their chords lie
+  /// within their sags of each other in 3D, well inside a margin of the step's own length.
+  bool crossesOther(Vec2 a, Vec2 b, Vec3 A, Vec3 B) const {
     const double m = dist(A, B);
     const Vec3 pad{m, m, m};
     bool hit = false;
-    buckets.visit(SegmentBuckets::lo(A, B) - pad, SegmentBuckets::hi(A, B) + pad, [&](int id) {
-      if (!hit && segmentsCross(a, b, segs[id].a, segs[id].b)) hit = true;
+    otherBuckets_.visit(SegmentBuckets::lo(A, B) - pad, SegmentBuckets::hi(A, B) + pad, [&](int id) {
+      if (!hit && segmentsCross(a, b, otherSegs_[id].a, otherSegs_[id].b)) hit = true;
     });
     return hit;
   }
@@ -392,8 +388,9 @@ class FaceLayers {
     otherBuckets_.add((int)otherSegs_.size() - 1, g.A, g.B);
   }
 
-  /// Records a grown run's grid for crossesOther: the segments of its marched columns and its
-  /// rows above the BL edge (end columns run along the boundary, which crossesLoops guards).
+  /// Records a grown run's grid for the collision tests (crossesOther, nearOtherGrid,
+  /// otherPointNearRow): the segments of its marched columns and its rows above the BL edge (end
+  /// columns run along the boundary, which crossesLoops guards).
   void recordGrid(const std::vector<Column>& cols, bool closed) {
     const int m = (int)cols.size();
     for (const Column& c : cols)
