@@ -32,6 +32,24 @@ namespace {
 bool facesAway(const TriVertex& p, const TriVertex& q, const TriVertex& r) {
   return dot(cross(q.xyz - p.xyz, r.xyz - p.xyz), p.normal + q.normal + r.normal) < 0;
 }
+// a triangle on one side of the surface that faces away from it: its normal opposes every vertex
+// normal it has, and those agree among themselves (across a fold, vertex normals on its two flanks
+// oppose each other and leave a triangle's facing undecided)
+bool inverted(const TriVertex& p, const TriVertex& q, const TriVertex& r) {
+  const Vec3 n = cross(q.xyz - p.xyz, r.xyz - p.xyz);
+  const TriVertex* v[3] = {&p, &q, &r};
+  int defined = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (!(norm2(v[i]->normal) > 0)) continue;
+    if (dot(n, v[i]->normal) >= 0) return false;
+    for (int j = 0; j < i; ++j)
+      if (norm2(v[j]->normal) > 0 && dot(v[i]->normal, v[j]->normal) <= 0) return false;
+    ++defined;
+  }
+  return defined > 0;
+}
+// an edge whose ends' normals oppose each other runs across a fold
+bool acrossFold(const TriVertex& p, const TriVertex& q) { return dot(p.normal, q.normal) < 0; }
 }  // namespace
 
 namespace {
@@ -45,6 +63,10 @@ constexpr double kRidgePeak = 1.5;
 // a crest split lies at least this share of the edge's 3D length from the edge's ends and from
 // the vertices opposite it (a crest near one of them is that vertex's, for a flip, to resolve)
 constexpr double kCrestShare = 0.25;
+// the same share across a fold whose flanks face opposite ways (the ends' normals more than 90
+// degrees apart): there a flip cannot line an edge up with the crest, so the crest is split even
+// near a vertex (propeller_and_shaft's blade tips, where a fold closes into a cusp)
+constexpr double kCrestShareFold = 0.1;
 // a deviation-driven flip must bring the pair's worst deviation/bound below this share of before
 constexpr double kFlipGain = 0.8;
 // flips and crest splits for folds make no triangle below this quality that is worse than the
@@ -68,7 +90,10 @@ bool Optimizer::valid(int ia, int ib, int ic) const {
   if (poleCollapsed(a, b, c)) return true;
   // the triangle must face like the surface at each vertex (allowing curvature)
   Vec3 n;
-  return facesVertexNormals(a, b, c, kFacing, n);
+  if (!facesVertexNormals(a, b, c, kFacing, n)) return false;
+  // a triangle along a fold's crest (no vertex normal): like the surface at its centroid's foot
+  if (a.flags & b.flags & c.flags & VF_CREST) return facesAtCentroid(ia, ib, ic);
+  return true;
 }
 
 bool Optimizer::facesAtCentroid(int ia, int ib, int ic) const {
@@ -105,6 +130,9 @@ double Optimizer::deviationEstimate(int ia, int ib, int ic) const {
   // along an edge (x_i, x_j) of a surface of normal curvature k, (n_i - n_j).(x_j - x_i) ~ k L^2
   // = 8 sag; the centroid sits at about half the largest edge sag
   const TriVertex* v[3] = {&T_.verts[ia], &T_.verts[ib], &T_.verts[ic]};
+  // a crest vertex has no normal to estimate from: the exact deviation decides
+  for (const TriVertex* x : v)
+    if (x->flags & VF_CREST) return std::numeric_limits<double>::infinity();
   double m = 0;
   for (int k = 0; k < 3; ++k) {
     const TriVertex &p = *v[k], &q = *v[(k + 1) % 3];
@@ -186,7 +214,7 @@ bool Optimizer::ridgePoint(int a, int b, Vec2& at) const {
   at = A.uv + f * (B.uv - A.uv);
   const Vec3 x = C_.surf.eval(C_.toParam(at));
   const double l = std::sqrt(l2);
-  return std::min(dist(x, A.xyz), dist(x, B.xyz)) >= kCrestShare * l;
+  return std::min(dist(x, A.xyz), dist(x, B.xyz)) >= (acrossFold(A, B) ? kCrestShareFold : kCrestShare) * l;
 }
 
 bool Optimizer::validFlip(int t, int i, int& u, int& a, int& b, int& c, int& d) const {
@@ -332,6 +360,9 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
         const Triangle& W = T_.tris[where];
         const TriVertex &A = T_.verts[W.v[0]], &B = T_.verts[W.v[1]], &D = T_.verts[W.v[2]];
         if (!facesAway(A, B, D) && (facesAway(A, B, P) || facesAway(B, D, P) || facesAway(D, A, P))) continue;
+        // nor one lying on a flank but upside down (where the triangle split runs across a fold,
+        // facesAway's summed normals can miss it)
+        if (devRatio_ > 0 && (inverted(A, B, P) || inverted(B, D, P) || inverted(D, A, P))) continue;
       }
       const int v = T_.addVertex(P);
       const Triangulation::FlipTest none = [](int, int) { return false; };
@@ -485,7 +516,7 @@ bool Optimizer::tryMove(int v, Vec3 goal, const std::function<bool(const RingSta
 
 bool Optimizer::movableWithRing(int v) {
   const TriVertex& V = T_.verts[v];
-  if (V.flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD) || V.tri < 0) return false;
+  if ((V.flags & VF_FIXED) || V.tri < 0) return false;
   bool closed = true;
   T_.ring(v, ring_, &closed);
   return closed && ring_.size() >= 3;
@@ -634,7 +665,7 @@ std::vector<char> Optimizer::irregularZone() const {
   for (const Triangle& tr : T_.tris) {
     if (tr.dead) continue;
     for (int v : tr.v)
-      if (!(T_.verts[v].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) && count[v] != 6) {
+      if (!(T_.verts[v].flags & VF_FIXED) && count[v] != 6) {
         for (int w : tr.v) zone[w] = 1;
         break;
       }
@@ -818,6 +849,13 @@ int Optimizer::splitEdge(int t, int i, bool keepFacing, const Vec2* at) {
       C_.fill(nv);
     }
   }
+  // A crest split of an edge whose ends lie on the two flanks of a fold: the new vertex is on the
+  // crest, where the surface normal turns over a width far below the mesh size; it keeps no normal
+  // (the triangles on each flank are judged by their flank vertices) and stays where it is
+  if (at && acrossFold(T_.verts[a], T_.verts[b])) {
+    nv.normal = Vec3{0, 0, 0};
+    nv.flags |= VF_CREST;
+  }
   // Nor where the surface is so unevenly parametrised that the split point, in 3D, all but
   // lands on an end of the edge (the edge would not get shorter, and the refinement that asked
   // for the split would ask again) or on a vertex opposite: on propeller_and_shaft's blade folds
@@ -839,16 +877,34 @@ int Optimizer::splitEdge(int t, int i, bool keepFacing, const Vec2* at) {
     }
     if (q1 < std::min(q0, kFoldMinQuality)) return -1;
     const double l = dist(A, B);
-    if (dist(nv.xyz, Cc) < kCrestShare * l || (d >= 0 && dist(nv.xyz, T_.verts[d].xyz) < kCrestShare * l)) return -1;
+    const double share = (nv.flags & VF_CREST) ? kCrestShareFold : kCrestShare;
+    if (dist(nv.xyz, Cc) < share * l || (d >= 0 && dist(nv.xyz, T_.verts[d].xyz) < share * l)) return -1;
   }
   if (keepFacing) {
     // the split must not turn a triangle that faces like the surface into ones that face away
     // (across a nose far smaller than the triangle, the midpoint can land on the other side)
     const TriVertex &A = T_.verts[a], &B = T_.verts[b], &Cc = T_.verts[c];
-    if (!facesAway(Cc, A, B) && (facesAway(Cc, A, nv) || facesAway(Cc, nv, B))) return -1;
+    // a new triangle on the crest whose other corners lie on the fold's two flanks still runs
+    // across the fold; the crest split of its other edge resolves it, so its facing is not judged
+    auto away = [&](const TriVertex& P, const TriVertex& Q, const TriVertex& R) {
+      if (nv.flags & VF_CREST) {
+        const TriVertex* o[3];
+        int k = 0;
+        for (const TriVertex* x : {&P, &Q, &R})
+          if (!(x->flags & VF_CREST)) o[k++] = x;
+        if (k == 2 && acrossFold(*o[0], *o[1])) return false;
+      }
+      return facesAway(P, Q, R);
+    };
+    if (!facesAway(Cc, A, B) && (away(Cc, A, nv) || away(Cc, nv, B))) return -1;
     if (d >= 0) {
       const TriVertex& D = T_.verts[d];
-      if (!facesAway(D, B, A) && (facesAway(D, B, nv) || facesAway(D, nv, A))) return -1;
+      if (!facesAway(D, B, A) && (away(D, B, nv) || away(D, nv, A))) return -1;
+    }
+    // never a triangle lying on a flank upside down
+    if (devRatio_ > 0) {
+      if (inverted(Cc, A, nv) || inverted(Cc, nv, B)) return -1;
+      if (d >= 0 && (inverted(T_.verts[d], B, nv) || inverted(T_.verts[d], nv, A))) return -1;
     }
   }
   const int v = T_.addVertex(nv);
@@ -947,7 +1003,7 @@ int Optimizer::collapsePass(double shortRatio, double maxRatio) {
       int a = tr.v[nx(i)], b = tr.v[pv(i)];
       if (edgeRatio(a, b) >= shortRatio) continue;
       // collapse the free vertex onto the other one
-      auto freeV = [&](int v) { return !(T_.verts[v].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)); };
+      auto freeV = [&](int v) { return !(T_.verts[v].flags & VF_FIXED); };
       int tt = t, ii = i;
       if (!freeV(a)) {
         if (!freeV(b)) continue;
@@ -996,7 +1052,7 @@ int Optimizer::repairFrontApexes(double ratio) {
       const double ideal = 0.8660254037844386 * std::min(h, 1.5 * base);
       const double ht = norm(cross(B - A, C.xyz - A)) / base;
       if (ht >= ratio * ideal) continue;
-      if (C.flags & (VF_BOUNDARY | VF_POLE | VF_DEAD)) continue;
+      if (C.flags & (VF_BOUNDARY | VF_POLE | VF_DEAD | VF_CREST)) continue;
       const Vec3 n = normalized(T_.verts[a].normal + T_.verts[b].normal);
       const Vec3 dir = normalized(cross(n, B - A));
       const Vec3 goal = 0.5 * (A + B) + ideal * (dot(dir, C.xyz - A) >= 0 ? dir : -dir);
@@ -1230,7 +1286,7 @@ bool Optimizer::collapseApex(int t) {
   for (const auto& ba : byAngle) {
     const int k = ba.second;
     const int vk = tr.v[k];
-    if (T_.verts[vk].flags & (VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD)) continue;
+    if (T_.verts[vk].flags & VF_FIXED) continue;
     // its two edges in t (edge e contains k when e != k), shorter first
     int e1 = nx(k), e2 = pv(k);
     const double l1 = dist(T_.verts[vk].xyz, T_.verts[tr.v[pv(k)]].xyz);  // edge nx(k) = (k, pv(k))

@@ -29,7 +29,10 @@ enum : uint8_t {
   VF_POLE = 2,      ///< a copy of a degenerate (pole) node: several uv images, one 3D point
   VF_SUPER = 4,     ///< auxiliary bounding vertex of the initial triangulation
   VF_DEAD = 8,      ///< removed by a collapse
+  VF_CREST = 16,    ///< on the crest of a fold narrower than the mesh: no normal (zero), never moved
 };
+/// Vertices the optimiser never moves or collapses away.
+constexpr uint8_t VF_FIXED = VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD | VF_CREST;
 
 struct TriVertex {
   Vec2 uv;          ///< scaled (u,v)
