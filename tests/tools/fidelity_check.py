@@ -2,7 +2,7 @@
 """Geometric fidelity of a surface mesh, triangle by triangle (independent of ParaMesh's code).
 
 usage: fidelity_check.py CAD MESH [--ratio 0.03] [--sample N] [--jobs J] [--worst K]
-                         [--faces F1,F2,...] [--max-edge L]
+                         [--faces F1,F2,...] [--max-edge L] [--min-size M --angle DEG]
 For every triangle (or a random sample of N), the distance from its centroid to its own CAD face
 (MSH entity tag = FreeCAD face number) divided by the triangle's mean edge length. Triangles of
 planar faces are skipped (a plane has no sag). Prints JSON: max and percentiles of that ratio, how
@@ -24,6 +24,15 @@ degrees apart) it puts points that lie on the surface well inside the face 0.000
 `dist_to_shape_overestimated` counts the triangles over the limit by distToShape whose distance a
 surface foot lowered.
 
+With --min-size and --angle (the run's --min-size and --curvature-angle), each triangle over the
+limit also gets the CAD's smallest radius of curvature under it (1 / the largest principal
+curvature in magnitude, from OpenCASCADE's Surface.curvature 'Max' and 'Min', which are signed, at
+its centroid's foot, its nodes and its edges' (u,v) midpoints). A triangle can subtend at most the angle when its
+edges are at most radius x angle; where that is below the min-size, the min-size (the size field's
+floor) forbids the triangles the bound needs. `over_limit_resolvable` counts the triangles over
+the limit (beyond the CAD gap) whose radius is at least min-size / angle: those the min-size allowed
+to meet it.
+
 Issue 2 words the limit as a distance "from the CAD": for each triangle over the limit against its
 own face, the distance from its centroid to the whole shape (every face) is measured too, and
 `over_limit_to_cad` counts those still over it (a centroid that left its own trimmed face across a
@@ -41,6 +50,10 @@ def _load(cad):
     global _shape
     from cad_read import read_cad
     _shape = read_cad(cad)
+
+
+def _finite(x):
+    return float(x) if np.isfinite(x) else None
 
 
 def _newton_foot(S, C, u, w):
@@ -82,6 +95,7 @@ def _work(args):
         d = Part.Vertex(FreeCAD.Vector(*c)).distToShape(f)[0]
         gap = 0.0
         over = 0
+        foot = None
         if d / L > _limit:
             # distToShape is an upper bound that can miss the foot on a strongly skewed
             # parametrisation (propeller_and_shaft's blade tips: points lying on the surface, well
@@ -91,6 +105,7 @@ def _work(args):
             S = f.Surface
             C = FreeCAD.Vector(*c)
             seeds = [S.parameter(C)]
+            foot = seeds[0]
             nodes = [S.parameter(FreeCAD.Vector(*p)) for p in tri]
             seeds += nodes + [tuple(np.mean(nodes, 0))]
             for k, (u, w) in enumerate(seeds):
@@ -101,7 +116,23 @@ def _work(args):
                     if ds < d:
                         over = 1
                         d = ds
+                        foot = (u, w)
         dcad = d
+        radius = float('inf')
+        if d / L > _limit:
+            # the sharpest curvature under the triangle: at its centroid's foot, its nodes and
+            # the (u,v) midpoints of its edges (across a crest the foot can lie on a flank)
+            S = f.Surface
+            at = [foot if foot is not None else S.parameter(C)]
+            nodes = [S.parameter(FreeCAD.Vector(*p)) for p in tri]
+            at += nodes + [((nodes[i][0] + nodes[i - 1][0]) / 2, (nodes[i][1] + nodes[i - 1][1]) / 2) for i in range(3)]
+            k = 0.0
+            for u, w in at:
+                try:
+                    k = max(k, abs(S.curvature(u, w, 'Max')), abs(S.curvature(u, w, 'Min')))
+                except Exception:
+                    pass
+            radius = 1.0 / k if k > 0 else float('inf')
         if d / L > _limit:
             dcad = min(d, Part.Vertex(FreeCAD.Vector(*c)).distToShape(_shape)[0])
             S = f.Surface
@@ -109,7 +140,7 @@ def _work(args):
                 v = FreeCAD.Vector(*p)
                 u, w = S.parameter(v)
                 gap += (S.value(u, w) - v).Length / 3
-        out.append((d / L, max(d - gap, 0.0) / L, L, dcad / L, over))
+        out.append((d / L, max(d - gap, 0.0) / L, L, dcad / L, over, radius))
     return out
 
 
@@ -123,6 +154,8 @@ def main():
     ap.add_argument('--worst', type=int, default=5)
     ap.add_argument('--faces', default='', help='only these faces (comma-separated FreeCAD numbers)')
     ap.add_argument('--max-edge', type=float, default=0, help='only triangles whose mean edge is at most this')
+    ap.add_argument('--min-size', type=float, default=0, help="the run's --min-size (with --angle)")
+    ap.add_argument('--angle', type=float, default=0, help="the run's --curvature-angle, degrees")
     a = ap.parse_args()
     _limit = a.ratio
     _load(a.cad)
@@ -151,7 +184,7 @@ def main():
     else:
         parts = [_work((P[T[c]], E[c])) for c in chunks]
     order = np.concatenate(chunks)
-    res = np.array([r for part in parts for r in part]) if len(order) else np.zeros((0, 5))
+    res = np.array([r for part in parts for r in part]) if len(order) else np.zeros((0, 6))
     ratios, beyond = res[:, 0], res[:, 1]
     worst = np.argsort(-ratios)[:a.worst]
     out = {'triangles': int(len(T)), 'checked': int(len(order)), 'ratio_max': float(ratios.max()),
@@ -162,9 +195,17 @@ def main():
            'over_limit_to_cad': int((res[:, 3] > a.ratio).sum()),
            'ratio_to_cad_max': float(res[:, 3].max()),
            'dist_to_shape_overestimated': int(res[:, 4].sum()),
+           'over_limit_radius_min': _finite(res[ratios > a.ratio, 5].min()) if (ratios > a.ratio).any() else None,
            'worst': [{'ratio': float(ratios[k]), 'beyond_cad_gap': float(beyond[k]), 'to_cad': float(res[k, 3]), 'face': int(E[order[k]]),
                       'mean_edge': float(res[k, 2]), 'centroid': [round(float(x), 4) for x in P[T[order[k]]].mean(0)]}
                      for k in worst]}
+    for w, k in zip(out['worst'], worst):
+        if ratios[k] > a.ratio:
+            w['cad_radius'] = _finite(res[k, 5])
+    if a.min_size > 0 and a.angle > 0:
+        reach = a.min_size / np.radians(a.angle)
+        out['min_size_reach_radius'] = float(reach)
+        out['over_limit_resolvable'] = int(((beyond > a.ratio) & (res[:, 5] >= reach)).sum())
     print(json.dumps(out, indent=1))
     sys.exit(0 if out['over_limit'] == 0 else 1)
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 #include <unordered_map>
 
@@ -13,6 +14,7 @@
 #include "paramesh/algo/Recombine.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/algo/Triangulation.hpp"
+#include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
 
 namespace paramesh {
@@ -534,6 +536,17 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength, &opt.deviationZones) > 0) {
       O.smoothPass();
       O.swapPass();
+    }
+    for (const Optimizer::DeviationMiss& m : O.deviationMisses()) {
+      // the surface's sharpest curvature under the triangle: at its corners, its edges' (u,v)
+      // midpoints and its centroid's foot (across a crest the foot can lie on a flank)
+      double k = maxCurvature(surf, C.toParam(m.foot));
+      for (int i = 0; i < 3; ++i) {
+        k = std::max(k, maxCurvature(surf, C.toParam(m.corners[i])));
+        k = std::max(k, maxCurvature(surf, C.toParam(0.5 * (m.corners[i] + m.corners[(i + 1) % 3]))));
+      }
+      res.deviationMisses.push_back({m.centroid, m.deviation, m.allowed, m.meanEdge,
+                                     k > 0 ? 1.0 / k : std::numeric_limits<double>::infinity()});
     }
     T.compact();
     // output

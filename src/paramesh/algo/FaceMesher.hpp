@@ -69,6 +69,15 @@ struct FaceMeshResult {
   /// projection's, or the distance to the face's boundary when the projection's foot falls
   /// outside the trimmed face (a fillet's chord next to its edge).
   std::vector<std::pair<int, double>> offSurface;
+  /// Triangles still beyond the deviation bounds (FaceMeshOptions::maxDeviation,
+  /// maxDeviationRatio, deviationZones) after refinement: where, by how much, and the surface's
+  /// radius of curvature under it (the smallest principal radius at the corners, the edges' (u,v)
+  /// midpoints and the centroid's foot).
+  struct DeviationMiss {
+    Vec3 at;
+    double deviation = 0, allowed = 0, meanEdge = 0, radius = 0;
+  };
+  std::vector<DeviationMiss> deviationMisses;
   int rejectedPoints = 0;
   int degenerateDropped = 0;
 };

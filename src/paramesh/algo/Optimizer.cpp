@@ -376,6 +376,32 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
   return changes;
 }
 
+std::vector<Optimizer::DeviationMiss> Optimizer::deviationMisses() const {
+  std::vector<DeviationMiss> out;
+  if (!deviationBounded() || C_.planar) return out;
+  for (const Triangle& tr : T_.tris) {
+    if (tr.dead) continue;
+    const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2]);
+    if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * allowed) continue;
+    const double d = deviation(tr.v[0], tr.v[1], tr.v[2]);
+    if (!(d > allowed)) continue;
+    const TriVertex &A = T_.verts[tr.v[0]], &B = T_.verts[tr.v[1]], &Cc = T_.verts[tr.v[2]];
+    DeviationMiss m;
+    m.deviation = d;
+    m.allowed = allowed;
+    m.centroid = (1.0 / 3) * (A.xyz + B.xyz + Cc.xyz);
+    m.foot = (1.0 / 3) * (A.uv + B.uv + Cc.uv);  // where deviation() found it
+    m.corners[0] = A.uv;
+    m.corners[1] = B.uv;
+    m.corners[2] = Cc.uv;
+    Vec3 p;
+    C_.project(m.centroid, m.foot, p);
+    m.meanEdge = (dist(A.xyz, B.xyz) + dist(B.xyz, Cc.xyz) + dist(Cc.xyz, A.xyz)) / 3.0;
+    out.push_back(m);
+  }
+  return out;
+}
+
 double Optimizer::edgeRatio(int a, int b) const {
   const TriVertex &A = T_.verts[a], &B = T_.verts[b];
   return dist(A.xyz, B.xyz) / (0.5 * (A.h + B.h));

@@ -117,6 +117,18 @@ class Optimizer {
   /// zones (optional): local bounds, the smallest of the balls holding a triangle's centroid.
   int refineDeviation(double maxDev, double ratio = 0, double minEdge = 0,
                       const std::vector<DeviationZone>* zones = nullptr);
+  /// A triangle still beyond its deviation bound after refineDeviation.
+  struct DeviationMiss {
+    double deviation = 0;  ///< centroid distance to the surface
+    double allowed = 0;    ///< its bound (the CAD-gap share of its nodes included)
+    double meanEdge = 0;   ///< mean 3D edge length
+    Vec3 centroid;
+    Vec2 foot;             ///< the centroid's foot on the surface, scaled (u,v)
+    Vec2 corners[3];       ///< the triangle's corners, scaled (u,v)
+  };
+  /// The triangles beyond the bounds of the last refineDeviation (none when it set no bound or
+  /// the face is planar), measured as refineDeviation measures them.
+  std::vector<DeviationMiss> deviationMisses() const;
   /// 3D quality of triangle t (pole-degenerate triangles count as 1: they vanish in 3D).
   double quality(int t) const;
   /// True when triangle (a,b,c) is valid: counter-clockwise in (u,v) and facing like the surface.

@@ -2,6 +2,8 @@
 #include "paramesh/pipeline/Mesher.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <limits>
 #include <cmath>
 #include <map>
 #include <unordered_map>
@@ -1697,6 +1699,22 @@ struct Mesher::Impl {
       fr.triangles = (int)r.tris.size();
       fr.quads = (int)r.quads.size();
       fr.nodes = (int)r.newXyz.size();
+      fr.overDeviation = (int)r.deviationMisses.size();
+      fr.overDeviationWorst = 0;
+      fr.overDeviationRadius = std::numeric_limits<double>::infinity();
+      fr.overDeviationResolvable = 0;
+      const double reach = minSizeReach();
+      for (const FaceMeshResult::DeviationMiss& m : r.deviationMisses) {
+        if (reach > 0 && m.radius >= reach) ++fr.overDeviationResolvable;
+        const double x = m.deviation / m.allowed;
+        if (x > fr.overDeviationWorst) {
+          fr.overDeviationWorst = x;
+          fr.overDeviationAt[0] = m.at.x;
+          fr.overDeviationAt[1] = m.at.y;
+          fr.overDeviationAt[2] = m.at.z;
+        }
+        fr.overDeviationRadius = std::min(fr.overDeviationRadius, m.radius);
+      }
     }
     stage("assemble", ta.seconds());
     if (fo.reportOffSurface && blLaws.empty()) {  // kept for the next round of the nearest-face check
@@ -1989,7 +2007,53 @@ struct Mesher::Impl {
       report.warnings.push_back(w);
       log.warn(w);
     }
+    warnOverDeviation();
     stage("quality", tq.seconds());
+  }
+
+  /// One warning for the triangles left beyond the deviation bounds: per face (the five with the
+  /// most) how many, the worst, where, and the surface's radius of curvature there; and, where
+  /// that radius is below what the min-size can follow at the curvature angle, that the min-size
+  /// is what holds the triangles back.
+  /// The smallest radius of curvature that triangles of the min-size can follow at the curvature
+  /// angle (0: no curvature angle).
+  double minSizeReach() const { return p.curvatureAngle > 0 ? p.minSize / (p.curvatureAngle * kPi / 180.0) : 0.0; }
+
+  void warnOverDeviation() {
+    std::vector<const FaceReport*> over;
+    int total = 0, resolvable = 0;
+    double radius = std::numeric_limits<double>::infinity();
+    for (const FaceReport& fr : report.faces)
+      if (fr.ok && fr.overDeviation > 0) {
+        over.push_back(&fr);
+        total += fr.overDeviation;
+        resolvable += fr.overDeviationResolvable;
+        radius = std::min(radius, fr.overDeviationRadius);
+      }
+    if (over.empty()) return;
+    std::stable_sort(over.begin(), over.end(), [](const FaceReport* a, const FaceReport* b) { return a->overDeviation > b->overDeviation; });
+    auto num = [](double x, int digits = 3) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%.*g", digits, x);
+      return std::string(b);
+    };
+    std::string w = std::to_string(total) + " triangle" + (total == 1 ? "" : "s") + " on " + std::to_string(over.size()) +
+                    " face" + (over.size() == 1 ? "" : "s") + " still beyond the deviation bound after refinement: ";
+    for (size_t i = 0; i < over.size() && i < 5; ++i) {
+      const FaceReport& fr = *over[i];
+      w += (i ? "; Face" : "Face") + std::to_string(fr.face) + " " + std::to_string(fr.overDeviation) + " (worst " +
+           num(fr.overDeviationWorst) + "x its bound at (" + num(fr.overDeviationAt[0], 6) + ", " + num(fr.overDeviationAt[1], 6) +
+           ", " + num(fr.overDeviationAt[2], 6) + "), surface radius of curvature down to " + num(fr.overDeviationRadius) + ")";
+    }
+    if (over.size() > 5) w += "; ...";
+    const double reach = minSizeReach();
+    if (reach > 0 && radius < reach)
+      w += ". " + std::to_string(total - resolvable) + " of them lie where the surface's radius of curvature is below " +
+           num(reach) + " (min-size / curvature angle): there the min-size (" + num(p.minSize) +
+           ") keeps triangles too large to follow the surface at the curvature angle; a smaller --min-size lets "
+           "them, unless the radius keeps shrinking towards a point of the surface";
+    report.warnings.push_back(w);
+    log.warn(w);
   }
 };
 

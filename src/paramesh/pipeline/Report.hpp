@@ -20,6 +20,17 @@ struct FaceReport {
   int triangles = 0, quads = 0, nodes = 0;
   int rejectedPoints = 0;       ///< frontal points rejected (diagnostic)
   double seconds = 0;
+  /// Triangles whose centroid is still farther from the surface than the deviation bounds allow
+  /// (--curvature-angle, --max-deviation, local zones) after refinement, and of those: the worst
+  /// distance / bound, where it is, and the smallest radius of curvature of the surface under
+  /// them (FaceMeshResult::DeviationMiss; infinite: flat there).
+  int overDeviation = 0;
+  double overDeviationWorst = 0;
+  double overDeviationAt[3] = {0, 0, 0};
+  double overDeviationRadius = 0;
+  /// of overDeviation, those where that radius is at least min-size / curvature angle (the
+  /// min-size did not keep them from following the surface); 0 without a curvature angle
+  int overDeviationResolvable = 0;
 };
 
 /// Quality summary of the surface elements (triangles; quads reported separately).

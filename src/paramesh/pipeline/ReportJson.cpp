@@ -2,6 +2,7 @@
 #include "paramesh/pipeline/ReportJson.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "paramesh/util/Error.hpp"
@@ -82,6 +83,16 @@ Json reportToJson(const Report& r) {
     fj["quads"] = f.quads;
     fj["interior_nodes"] = f.nodes;
     fj["seconds"] = f.seconds;
+    if (f.overDeviation > 0) {
+      Json& od = fj["over_deviation_bound"];
+      od["triangles"] = f.overDeviation;
+      od["worst_over_bound"] = f.overDeviationWorst;
+      Json& at = od["worst_at"];
+      at = Json::array();
+      for (double x : f.overDeviationAt) at.push(x);
+      if (std::isfinite(f.overDeviationRadius)) od["surface_radius_min"] = f.overDeviationRadius;
+      if (r.curvatureAngle > 0) od["radius_above_min_size_reach"] = f.overDeviationResolvable;
+    }
     faces.push(std::move(fj));
   }
   if (!r.boundaryLayers.empty()) {
