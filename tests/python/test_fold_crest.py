@@ -55,3 +55,39 @@ def test_blade_tip_fold_is_lined_with_edges():
         if np.dot(np.cross(x[1] - x[0], x[2] - x[0]), cad.face_normal(7, x.mean(0))) < 0:
             against += 1
     assert against == 0, against
+
+
+@needs_freecad
+def test_triangles_left_beyond_the_bound_are_where_min_size_cannot_follow():
+    """What the bound still misses lies where the CAD's radius of curvature is below what the
+    min-size can follow at 10 degrees (min-size / angle: 0.218 mm): the run report says so per
+    face, and fidelity_check's own curvature measurement agrees around each face's worst triangle.
+    Toward the tip edges the radius falls to 1e-5 mm (docs/benchmark.md, stop 28)."""
+    import math
+    import fidelity_check as fc
+    fc._limit = 0.03
+    fc._shape = bc.read_shape(PS)
+    r = pm.mesh_file(PS, curvature_angle=10.0)
+    rep = r.report
+    reach = rep["parameters"]["min_size"] / math.radians(10.0)
+    assert reach == pytest.approx(0.2183, rel=1e-3)
+    over = {f["face"]: f["over_deviation_bound"] for f in rep["faces"] if "over_deviation_bound" in f}
+    # measured: 84 triangles on the five blade faces (7, 10, 12, 14, 16), radius 0.0003-0.0032 mm
+    assert set(over) <= {7, 10, 12, 14, 16}, sorted(over)
+    assert all(o["radius_above_min_size_reach"] == 0 and o["surface_radius_min"] < reach for o in over.values())
+    w = [s for s in rep["warnings"] if "beyond the deviation bound" in s]
+    assert len(w) == (1 if over else 0)
+    P, T, F = r.nodes, r.triangles, r.face_of_element
+    C = P[T].mean(1)
+    checked = beyond_total = 0
+    for face, o in over.items():
+        near = np.nonzero((np.linalg.norm(C - np.array(o["worst_at"]), axis=1) < 0.3) & (F == face))[0]
+        res = np.array(fc._work((P[T[near]], F[near])))
+        beyond = res[:, 1] > 0.03
+        checked += len(near)
+        beyond_total += int(beyond.sum())
+        assert beyond.sum() <= o["triangles"] + 2, (face, int(beyond.sum()), o["triangles"])
+        # the independent radius (OpenCASCADE's principal curvatures under each triangle)
+        assert (res[beyond, 5] < reach).all(), (face, res[beyond, 5].max())
+    # measured: 1 327 triangles within 0.3 mm of the five faces' worst, 46 of them beyond the bound
+    assert checked > 300 and beyond_total > 0, (checked, beyond_total)
