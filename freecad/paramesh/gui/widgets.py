@@ -411,6 +411,7 @@ class RunBox(QtGui.QWidget):
             return False
         self.qrunner.finished.connect(self._on_finished, QtCore.Qt.QueuedConnection)
         self.state = "running"
+        self._logged = set()
         self.bar.setValue(0)
         self.bar.setFormat("starting")
         self.cancel_button.setEnabled(True)
@@ -434,6 +435,13 @@ class RunBox(QtGui.QWidget):
     def message(self, level, text):
         color = _COLORS.get(level, "#202020")
         self.log.append(f'<span style="color:{color}">{html.escape(text)}</span>')
+
+    def _log_message(self, level, text):
+        """A message of the core's log sink during the run (remembered: the report's warnings
+        repeat them, and the log shows each once)."""
+        self._logged = getattr(self, "_logged", set())
+        self._logged.add(text)
+        self.message("warning" if level >= 2 else "log", text)
 
     # -- internals --
     def _fail(self, text):
@@ -459,7 +467,7 @@ class RunBox(QtGui.QWidget):
         if r is None:
             return
         for level, text in r.take_messages():
-            self.message("warning" if level >= 2 else "log", text)
+            self._log_message(level, text)
         if r.running:
             # touch only what changed: every repaint of a widget next to the OpenGL view costs a
             # window composition (tens of ms with software OpenGL)
@@ -480,7 +488,7 @@ class RunBox(QtGui.QWidget):
         self.timer.stop()
         r = self.runner
         for level, text in r.take_messages():
-            self.message("warning" if level >= 2 else "log", text)
+            self._log_message(level, text)
         self.cancel_button.setEnabled(False)
         self.last_seconds = r.elapsed
         self.time_label.setText(f"Time: {r.elapsed:.1f} s")
@@ -515,8 +523,11 @@ class RunBox(QtGui.QWidget):
         status = report.get("status", "ok")
         self.bar.setFormat("done" if status == "ok" else status)
         lines = report_lines(report)
+        logged = getattr(self, "_logged", set())
         for level, text in lines:
-            self.message(level, text)
+            if text not in logged:  # a warning already logged during the run
+                self.message(level, text)
+        self._logged = set()
         color = _COLORS["ok"] if status == "ok" else _COLORS["error" if status == "failed" else "warning"]
         head = {"ok": "Meshed", "degraded": "Meshed with problems", "failed": "Failed"}.get(status, status)
         body = "<br>".join(f'<span style="color:{_COLORS[level]}">{html.escape(t)}</span>' for level, t in lines[:8])

@@ -2038,20 +2038,21 @@ struct Mesher::Impl {
       return std::string(b);
     };
     std::string w = std::to_string(total) + " triangle" + (total == 1 ? "" : "s") + " on " + std::to_string(over.size()) +
-                    " face" + (over.size() == 1 ? "" : "s") + " still beyond the deviation bound after refinement: ";
+                    " face" + (over.size() == 1 ? "" : "s") + " beyond the deviation bound after refinement: ";
     for (size_t i = 0; i < over.size() && i < 5; ++i) {
       const FaceReport& fr = *over[i];
       w += (i ? "; Face" : "Face") + std::to_string(fr.face) + " " + std::to_string(fr.overDeviation) + " (worst " +
            num(fr.overDeviationWorst) + "x its bound at (" + num(fr.overDeviationAt[0], 6) + ", " + num(fr.overDeviationAt[1], 6) +
-           ", " + num(fr.overDeviationAt[2], 6) + "), surface radius of curvature down to " + num(fr.overDeviationRadius) + ")";
+           ", " + num(fr.overDeviationAt[2], 6) + "), surface radius down to " + num(fr.overDeviationRadius) + ")";
     }
     if (over.size() > 5) w += "; ...";
     const double reach = minSizeReach();
     if (reach > 0 && radius < reach)
-      w += ". " + std::to_string(total - resolvable) + " of them lie where the surface's radius of curvature is below " +
-           num(reach) + " (min-size / curvature angle): there the min-size (" + num(p.minSize) +
-           ") keeps triangles too large to follow the surface at the curvature angle; a smaller --min-size lets "
-           "them, unless the radius keeps shrinking towards a point of the surface";
+      w += ". " + (resolvable == 0 ? "All " + std::to_string(total) : std::to_string(total - resolvable) + " of them") +
+           " lie where the surface's radius of curvature is below min-size / curvature angle (" + num(reach) +
+           "): the min-size (" + num(p.minSize) +
+           ") keeps the triangles there too large to follow it; a smaller min-size lets them, unless the radius "
+           "shrinks towards a point";
     report.warnings.push_back(w);
     log.warn(w);
   }
