@@ -69,8 +69,8 @@ struct FaceMeshResult {
   /// projection's, or the distance to the face's boundary when the projection's foot falls
   /// outside the trimmed face (a fillet's chord next to its edge).
   std::vector<std::pair<int, double>> offSurface;
-  /// Triangles still beyond the deviation bounds (FaceMeshOptions::maxDeviation,
-  /// maxDeviationRatio, deviationZones) after refinement: where, by how much, and the surface's
+  /// Triangles still beyond the deviation bounds (FaceMeshOptions::maxDeviation and
+  /// maxDeviationRatio; not the deviationZones) after refinement: where, by how much, and the surface's
   /// radius of curvature under it (the smallest principal radius at the corners, the edges' (u,v)
   /// midpoints and the centroid's foot).
   struct DeviationMiss {

@@ -141,14 +141,14 @@ double Optimizer::deviationEstimate(int ia, int ib, int ic) const {
   return m;
 }
 
-double Optimizer::allowedDeviation(int a, int b, int c) const {
+double Optimizer::allowedDeviation(int a, int b, int c, bool withZones) const {
   double allowed = maxDev_ > 0 ? maxDev_ : 1e300;
   const Vec3 &A = T_.verts[a].xyz, &B = T_.verts[b].xyz, &Cc = T_.verts[c].xyz;
   if (devRatio_ > 0) {
     const double mean = (dist(A, B) + dist(B, Cc) + dist(Cc, A)) / 3.0;
     allowed = std::min(allowed, devRatio_ * mean);
   }
-  if (!zones_.empty()) {
+  if (withZones && !zones_.empty()) {
     const Vec3 g = (1.0 / 3) * (A + B + Cc);
     for (const DeviationZone& z : zones_) allowed = std::min(allowed, z.bound(g));
   }
@@ -378,10 +378,10 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
 
 std::vector<Optimizer::DeviationMiss> Optimizer::deviationMisses() const {
   std::vector<DeviationMiss> out;
-  if (!deviationBounded() || C_.planar) return out;
+  if (!(maxDev_ > 0 || devRatio_ > 0) || C_.planar) return out;
   for (const Triangle& tr : T_.tris) {
     if (tr.dead) continue;
-    const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2]);
+    const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2], false);
     if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * allowed) continue;
     const double d = deviation(tr.v[0], tr.v[1], tr.v[2]);
     if (!(d > allowed)) continue;

@@ -126,8 +126,9 @@ class Optimizer {
     Vec2 foot;             ///< the centroid's foot on the surface, scaled (u,v)
     Vec2 corners[3];       ///< the triangle's corners, scaled (u,v)
   };
-  /// The triangles beyond the bounds of the last refineDeviation (none when it set no bound or
-  /// the face is planar), measured as refineDeviation measures them.
+  /// The triangles beyond the absolute and relative bounds of the last refineDeviation (the
+  /// user's --max-deviation and --curvature-angle; its local zones, the nearest-face check's own
+  /// means, are not counted), measured as refineDeviation measures them; none on a planar face.
   std::vector<DeviationMiss> deviationMisses() const;
   /// 3D quality of triangle t (pole-degenerate triangles count as 1: they vanish in 3D).
   double quality(int t) const;
@@ -179,8 +180,9 @@ class Optimizer {
   /// Mean of the apexes of the equilateral triangles standing on the far edges of ring_ (the ring
   /// of v), in v's tangent plane: the smoothing target.
   Vec3 ringApexMean(int v) const;
-  /// Deviation triangle (a,b,c) may have under the absolute and relative bounds (+inf: none).
-  double allowedDeviation(int a, int b, int c) const;
+  /// Deviation triangle (a,b,c) may have under the absolute and relative bounds and, with
+  /// withZones, the local zones (+inf: none).
+  double allowedDeviation(int a, int b, int c, bool withZones = true) const;
   /// Distance of vertex v from the surface at its (u,v): nonzero only for nodes of CAD edges
   /// that lie off the face within the edge's tolerance.
   double gap(int v) const { return v < (int)gap_.size() ? gap_[v] : 0.0; }

@@ -21,7 +21,7 @@ struct FaceReport {
   int rejectedPoints = 0;       ///< frontal points rejected (diagnostic)
   double seconds = 0;
   /// Triangles whose centroid is still farther from the surface than the deviation bounds allow
-  /// (--curvature-angle, --max-deviation, local zones) after refinement, and of those: the worst
+  /// (--curvature-angle, --max-deviation; not the nearest-face check's zones) after refinement, and of those: the worst
   /// distance / bound, where it is, and the smallest radius of curvature of the surface under
   /// them (FaceMeshResult::DeviationMiss; infinite: flat there).
   int overDeviation = 0;
