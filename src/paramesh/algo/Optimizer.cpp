@@ -339,9 +339,14 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
         ++done;
         continue;
       }
-      // no edge to split (all on the boundary, from a pole or too short): insert the
-      // (projected) centroid, unless the triangle is already at the smallest size
-      if (best < 0 && minEdge > 0) {
+      // no edge to split (all on the boundary, from a pole or too short), or its split refused:
+      // insert the (projected) centroid, unless the triangle is already at the smallest size.
+      // Under the user's bounds (not the nearest-face zones alone, whose meshes stay as they
+      // were) that floor holds after a refused split too: without it, refused splits became
+      // centroid insertions that went on below the floor, leaving triangles beyond the bound all
+      // the same (propeller_and_shaft --curvature-angle 10: 84 triangles beyond it, 60 with it,
+      // by the run report; a torus tube of radius 0.5 at min-size 1: edges down to 0.009)
+      if ((best < 0 || devRatio_ > 0 || maxDev_ > 0) && minEdge > 0) {
         const Vec3 &A = T_.verts[tr.v[0]].xyz, &B = T_.verts[tr.v[1]].xyz, &Cc = T_.verts[tr.v[2]].xyz;
         if (std::min({dist(A, B), dist(B, Cc), dist(Cc, A)}) < 2.0 * minEdge) continue;
       }
