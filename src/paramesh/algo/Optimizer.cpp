@@ -1083,7 +1083,9 @@ int Optimizer::repairFrontApexes(double ratio) {
       const double ideal = 0.8660254037844386 * std::min(h, 1.5 * base);
       const double ht = norm(cross(B - A, C.xyz - A)) / base;
       if (ht >= ratio * ideal) continue;
-      if (C.flags & (VF_BOUNDARY | VF_POLE | VF_DEAD | VF_CREST)) continue;
+      // (VF_FIXED adds VF_SUPER to this set, which no vertex of a live triangle has: the
+      // constrained build kills every triangle on the auxiliary box's corners)
+      if (C.flags & VF_FIXED) continue;
       const Vec3 n = normalized(T_.verts[a].normal + T_.verts[b].normal);
       const Vec3 dir = normalized(cross(n, B - A));
       const Vec3 goal = 0.5 * (A + B) + ideal * (dot(dir, C.xyz - A) >= 0 ? dir : -dir);
