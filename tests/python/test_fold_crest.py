@@ -34,12 +34,19 @@ needs_freecad = pytest.mark.skipif(Part is None, reason="needs FreeCAD (Part)")
 FOLD = np.array([-8.2035, -12.3952, -124.362])  # on the trailing-edge fold of blade Face7 (mm)
 
 
-@needs_freecad
-def test_blade_tip_fold_is_lined_with_edges():
+@pytest.fixture(scope="module")
+def ps_mesh():
+    """propeller_and_shaft meshed once for this module with --curvature-angle 10 (about 20 s),
+    and fidelity_check set up on its shape (limit 0.03)."""
     import fidelity_check as fc
     fc._limit = 0.03
     fc._shape = bc.read_shape(PS)
-    r = pm.mesh_file(PS, curvature_angle=10.0)
+    return fc, pm.mesh_file(PS, curvature_angle=10.0)
+
+
+@needs_freecad
+def test_blade_tip_fold_is_lined_with_edges(ps_mesh):
+    fc, r = ps_mesh
     P, T, F = r.nodes, r.triangles, r.face_of_element
     near = np.nonzero((np.linalg.norm(P[T].mean(1) - FOLD, axis=1) < 0.3) & (F == 7))[0]
     assert len(near) > 150, len(near)  # measured 302 (stop 21: 310)
@@ -59,16 +66,13 @@ def test_blade_tip_fold_is_lined_with_edges():
 
 
 @needs_freecad
-def test_triangles_left_beyond_the_bound_are_where_min_size_cannot_follow():
+def test_triangles_left_beyond_the_bound_are_where_min_size_cannot_follow(ps_mesh):
     """What the bound still misses lies where the CAD's radius of curvature is below what the
     min-size can follow at 10 degrees (min-size / angle: 0.218 mm): the run report says so per
     face, and fidelity_check's own curvature measurement agrees around each face's worst triangle.
     Toward the tip edges the radius falls to 1e-5 mm (docs/benchmark.md, stop 28)."""
     import math
-    import fidelity_check as fc
-    fc._limit = 0.03
-    fc._shape = bc.read_shape(PS)
-    r = pm.mesh_file(PS, curvature_angle=10.0)
+    fc, r = ps_mesh
     rep = r.report
     reach = rep["parameters"]["min_size"] / math.radians(10.0)
     assert reach == pytest.approx(0.2183, rel=1e-3)

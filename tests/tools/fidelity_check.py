@@ -95,7 +95,6 @@ def _work(args):
         d = Part.Vertex(FreeCAD.Vector(*c)).distToShape(f)[0]
         gap = 0.0
         over = 0
-        foot = None
         if d / L > _limit:
             # distToShape is an upper bound that can miss the foot on a strongly skewed
             # parametrisation (propeller_and_shaft's blade tips: points lying on the surface, well
@@ -119,13 +118,14 @@ def _work(args):
                         foot = (u, w)
         dcad = d
         radius = float('inf')
-        if d / L > _limit:
+        if d / L > _limit:  # still over after the feet above (S, C, nodes and foot are set)
+            dcad = min(d, Part.Vertex(C).distToShape(_shape)[0])
+            for p, (u, w) in zip(tri, nodes):
+                gap += (S.value(u, w) - FreeCAD.Vector(*p)).Length / 3
             # the sharpest curvature under the triangle: at its centroid's foot, its nodes and
             # the (u,v) midpoints of its edges (across a crest the foot can lie on a flank)
-            S = f.Surface
-            at = [foot if foot is not None else S.parameter(C)]
-            nodes = [S.parameter(FreeCAD.Vector(*p)) for p in tri]
-            at += nodes + [((nodes[i][0] + nodes[i - 1][0]) / 2, (nodes[i][1] + nodes[i - 1][1]) / 2) for i in range(3)]
+            at = [foot] + nodes + [((nodes[i][0] + nodes[i - 1][0]) / 2, (nodes[i][1] + nodes[i - 1][1]) / 2)
+                                   for i in range(3)]
             k = 0.0
             for u, w in at:
                 try:
@@ -133,13 +133,6 @@ def _work(args):
                 except Exception:
                     pass
             radius = 1.0 / k if k > 0 else float('inf')
-        if d / L > _limit:
-            dcad = min(d, Part.Vertex(FreeCAD.Vector(*c)).distToShape(_shape)[0])
-            S = f.Surface
-            for p in tri:
-                v = FreeCAD.Vector(*p)
-                u, w = S.parameter(v)
-                gap += (S.value(u, w) - v).Length / 3
         out.append((d / L, max(d - gap, 0.0) / L, L, dcad / L, over, radius))
     return out
 

@@ -342,6 +342,7 @@ class RunBox(QtGui.QWidget):
 
     def __init__(self, parent=None):
         super().__init__(parent)
+        self._logged = set()  # messages of the core's log sink shown during the current run
         self.setWindowTitle("Meshing (Apply / OK run it in the background)")
         from .. import resource_path
         self.setWindowIcon(QtGui.QIcon(resource_path("icons", "ParaMesh_SurfaceMesh.svg")))
@@ -439,7 +440,6 @@ class RunBox(QtGui.QWidget):
     def _log_message(self, level, text):
         """A message of the core's log sink during the run (remembered: the report's warnings
         repeat them, and the log shows each once)."""
-        self._logged = getattr(self, "_logged", set())
         self._logged.add(text)
         self.message("warning" if level >= 2 else "log", text)
 
@@ -523,9 +523,8 @@ class RunBox(QtGui.QWidget):
         status = report.get("status", "ok")
         self.bar.setFormat("done" if status == "ok" else status)
         lines = report_lines(report)
-        logged = getattr(self, "_logged", set())
         for level, text in lines:
-            if text not in logged:  # a warning already logged during the run
+            if text not in self._logged:  # a warning already logged during the run
                 self.message(level, text)
         self._logged = set()
         color = _COLORS["ok"] if status == "ok" else _COLORS["error" if status == "failed" else "warning"]

@@ -545,8 +545,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         k = std::max(k, maxCurvature(surf, C.toParam(m.corners[i])));
         k = std::max(k, maxCurvature(surf, C.toParam(0.5 * (m.corners[i] + m.corners[(i + 1) % 3]))));
       }
-      res.deviationMisses.push_back({m.centroid, m.deviation, m.allowed, m.meanEdge,
-                                     k > 0 ? 1.0 / k : std::numeric_limits<double>::infinity()});
+      res.deviationMisses.push_back({m.centroid, m.deviation, m.allowed, k > 0 ? 1.0 / k : std::numeric_limits<double>::infinity()});
     }
     T.compact();
     // output

@@ -75,7 +75,7 @@ struct FaceMeshResult {
   /// midpoints and the centroid's foot).
   struct DeviationMiss {
     Vec3 at;
-    double deviation = 0, allowed = 0, meanEdge = 0, radius = 0;
+    double deviation = 0, allowed = 0, radius = 0;
   };
   std::vector<DeviationMiss> deviationMisses;
   int rejectedPoints = 0;

@@ -107,7 +107,7 @@ bool Optimizer::facesAtCentroid(int ia, int ib, int ic) const {
   return dot(n, nf) >= kFacing * norm(n);
 }
 
-double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside) const {
+double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside, Vec2* foot) const {
   if (footOutside) *footOutside = false;
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   if ((a.node >= 0 && (a.node == b.node || a.node == c.node)) || (b.node >= 0 && b.node == c.node)) return 0;
@@ -123,6 +123,7 @@ double Optimizer::deviation(int ia, int ib, int ic, bool* footOutside) const {
     const double w0 = orient2d(b.uv, c.uv, s), w1 = orient2d(c.uv, a.uv, s), w2 = orient2d(a.uv, b.uv, s);
     *footOutside = !((w0 >= 0 && w1 >= 0 && w2 >= 0) || (w0 <= 0 && w1 <= 0 && w2 <= 0));
   }
+  if (foot) *foot = s;
   return dist(p, g);
 }
 
@@ -388,20 +389,15 @@ std::vector<Optimizer::DeviationMiss> Optimizer::deviationMisses() const {
     if (tr.dead) continue;
     const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2], false);
     if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * allowed) continue;
-    const double d = deviation(tr.v[0], tr.v[1], tr.v[2]);
-    if (!(d > allowed)) continue;
-    const TriVertex &A = T_.verts[tr.v[0]], &B = T_.verts[tr.v[1]], &Cc = T_.verts[tr.v[2]];
     DeviationMiss m;
-    m.deviation = d;
+    m.deviation = deviation(tr.v[0], tr.v[1], tr.v[2], nullptr, &m.foot);
+    if (!(m.deviation > allowed)) continue;
+    const TriVertex &A = T_.verts[tr.v[0]], &B = T_.verts[tr.v[1]], &Cc = T_.verts[tr.v[2]];
     m.allowed = allowed;
     m.centroid = (1.0 / 3) * (A.xyz + B.xyz + Cc.xyz);
-    m.foot = (1.0 / 3) * (A.uv + B.uv + Cc.uv);  // where deviation() found it
     m.corners[0] = A.uv;
     m.corners[1] = B.uv;
     m.corners[2] = Cc.uv;
-    Vec3 p;
-    C_.project(m.centroid, m.foot, p);
-    m.meanEdge = (dist(A.xyz, B.xyz) + dist(B.xyz, Cc.xyz) + dist(Cc.xyz, A.xyz)) / 3.0;
     out.push_back(m);
   }
   return out;

@@ -104,7 +104,8 @@ class Optimizer {
 
   /// Distance from the centroid of triangle (a,b,c) to the surface (chordal deviation).
   /// footOutside (optional): set when the projection converged to a point outside the trimmed face.
-  double deviation(int a, int b, int c, bool* footOutside = nullptr) const;
+  /// foot (optional): the projection's foot, scaled (u,v) (left as it is when no projection runs: 0).
+  double deviation(int a, int b, int c, bool* footOutside = nullptr, Vec2* foot = nullptr) const;
   /// Cheap upper estimate of deviation() from the vertex normals (no surface evaluation).
   double deviationEstimate(int a, int b, int c) const;
   /// Refines triangles whose chordal deviation exceeds maxDev (a length; 0: no absolute bound) or
@@ -121,7 +122,6 @@ class Optimizer {
   struct DeviationMiss {
     double deviation = 0;  ///< centroid distance to the surface
     double allowed = 0;    ///< its bound (the CAD-gap share of its nodes included)
-    double meanEdge = 0;   ///< mean 3D edge length
     Vec3 centroid;
     Vec2 foot;             ///< the centroid's foot on the surface, scaled (u,v)
     Vec2 corners[3];       ///< the triangle's corners, scaled (u,v)

@@ -2011,14 +2011,14 @@ struct Mesher::Impl {
     stage("quality", tq.seconds());
   }
 
-  /// One warning for the triangles left beyond the deviation bounds: per face (the five with the
-  /// most) how many, the worst, where, and the surface's radius of curvature there; and, where
-  /// that radius is below what the min-size can follow at the curvature angle, that the min-size
-  /// is what holds the triangles back.
   /// The smallest radius of curvature that triangles of the min-size can follow at the curvature
   /// angle (0: no curvature angle).
   double minSizeReach() const { return p.curvatureAngle > 0 ? p.minSize / (p.curvatureAngle * kPi / 180.0) : 0.0; }
 
+  /// One warning for the triangles left beyond the deviation bounds: per face (the five with the
+  /// most) how many, the worst, where, and the surface's radius of curvature there; and, where
+  /// that radius is below what the min-size can follow at the curvature angle, that the min-size
+  /// is what holds the triangles back.
   void warnOverDeviation() {
     std::vector<const FaceReport*> over;
     int total = 0, resolvable = 0;
