@@ -141,6 +141,11 @@ class Optimizer {
   /// when it is markedly farther (kRidgePeak) than the chord's projected midpoint, i.e. the edge
   /// crosses a fold narrower than itself, and not near an end (kCrestShare); false otherwise.
   bool ridgePoint(int a, int b, Vec2& at) const;
+  /// Triangle t, over its deviation bound, has a crest vertex: one of its free vertices, left
+  /// next to a fold's crest, collapses onto a neighbour (crest vertices first, then the nearest)
+  /// when the triangles it leaves are valid, within their deviation bounds, and none collinear
+  /// (kFoldMinQuality) that was not. True when one collapsed.
+  bool collapseForDeviation(int t);
   /// Flips the free edge of t (over its deviation bound) whose flip lowers the pair's worst
   /// deviation/bound most, by at least a fifth (kFlipGain), with both new triangles valid (no
   /// crease guard: lining an edge up with a fold folds the pair on purpose). True when flipped.
