@@ -416,6 +416,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     res.rejectedPoints = fr.rejected;
     refineFolded(T, C);
     Optimizer O(T, C, progress);
+    O.setMinSizeReach(opt.minSizeReach);
     O.run(opt.optimizePasses);
     // the nearest-face check's local bounds first, so that the repairs below (which keep every
     // bound) clean up after their splits

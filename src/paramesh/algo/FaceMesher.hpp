@@ -42,6 +42,10 @@ struct FaceMeshOptions {
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
   double maxDeviationRatio = 0; ///< max centroid distance from the surface / the triangle's mean edge; 0: off
   double minSplitLength = 0;    ///< deviation refinement splits no edge shorter than this
+  /// The user's min-size / curvature angle (0: none): where the surface turns faster than that
+  /// radius, the relative deviation bound grows to what triangles at the min-size can meet
+  /// (Optimizer::setMinSizeReach)
+  double minSizeReach = 0;
   std::vector<DeviationZone> deviationZones;  ///< local deviation bounds (centroid inside a ball)
   int localNodeOffset = 0;      ///< face-local nodes already taken (boundary-layer nodes)
   bool quads = false;           ///< pair triangles into quads (quad-dominant)

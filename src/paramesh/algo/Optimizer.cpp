@@ -149,12 +149,24 @@ double Optimizer::deviationEstimate(int ia, int ib, int ic) const {
   return m;
 }
 
-double Optimizer::allowedDeviation(int a, int b, int c, bool withZones) const {
+double Optimizer::allowedDeviation(int a, int b, int c, bool withZones, bool relaxed) const {
   double allowed = maxDev_ > 0 ? maxDev_ : 1e300;
   const Vec3 &A = T_.verts[a].xyz, &B = T_.verts[b].xyz, &Cc = T_.verts[c].xyz;
   if (devRatio_ > 0) {
     const double mean = (dist(A, B) + dist(B, Cc) + dist(Cc, A)) / 3.0;
-    allowed = std::min(allowed, devRatio_ * mean);
+    double rel = devRatio_ * mean;
+    if (relaxed && reach_ > 0) {
+      // the surface's turning rate from the vertex normals (|n_p - n_q| / |p - q| ~ 1 / radius)
+      const TriVertex* v[3] = {&T_.verts[a], &T_.verts[b], &T_.verts[c]};
+      double rate = 0;
+      for (int k = 0; k < 3; ++k) {
+        const TriVertex &P = *v[k], &Q = *v[(k + 1) % 3];
+        const double l = dist(P.xyz, Q.xyz);
+        if (norm2(P.normal) > 0 && norm2(Q.normal) > 0 && l > 0) rate = std::max(rate, norm(P.normal - Q.normal) / l);
+      }
+      rel *= std::max(1.0, reach_ * rate);
+    }
+    allowed = std::min(allowed, rel);
   }
   if (withZones && !zones_.empty()) {
     const Vec3 g = (1.0 / 3) * (A + B + Cc);
@@ -343,12 +355,13 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
       // fold's crest only, and the chord's projected midpoint lands on a flank: split at the crest
       Vec2 crest;
       bool ridge = devRatio_ > 0 && best >= 0 && ridgePoint(tr.v[nx(best)], tr.v[pv(best)], crest);
-      // an edge below the floor may still be split at a crease's crest (kCreaseScale): that lines
-      // the mesh up with the fold, it does not refine it (propeller_and_shaft's blade tips, where
+      // an edge below the floor may still be split at a crease's crest (kCreaseScale), unless the
+      // floor is the user's min-size (setMinSizeReach): that lines the mesh up with the fold, it
+      // does not refine it (propeller_and_shaft's blade tips, where
       // the fold's radius falls far below min-size / angle: with collapseForDeviation, the run
       // report's triangles beyond the bound went from 60 to 34, fidelity_check's on the blade
       // faces from 54 to 30)
-      if (devRatio_ > 0 && !ridge) {
+      if (devRatio_ > 0 && reach_ == 0 && !ridge) {
         const int s = pick(true);
         if (s >= 0 && s != best && ridgePoint(tr.v[nx(s)], tr.v[pv(s)], crest) &&
             maxCurvature(C_.surf, C_.toParam(crest)) * minEdge > kCreaseScale) {
@@ -465,7 +478,7 @@ std::vector<Optimizer::DeviationMiss> Optimizer::deviationMisses() const {
   if (!(maxDev_ > 0 || devRatio_ > 0) || C_.planar) return out;
   for (const Triangle& tr : T_.tris) {
     if (tr.dead) continue;
-    const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2], false);
+    const double allowed = allowedDeviation(tr.v[0], tr.v[1], tr.v[2], false, false);
     if (deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) <= 0.5 * allowed) continue;
     DeviationMiss m;
     m.deviation = deviation(tr.v[0], tr.v[1], tr.v[2], nullptr, &m.foot);

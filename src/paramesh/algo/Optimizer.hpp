@@ -118,6 +118,13 @@ class Optimizer {
   /// zones (optional): local bounds, the smallest of the balls holding a triangle's centroid.
   int refineDeviation(double maxDev, double ratio = 0, double minEdge = 0,
                       const std::vector<DeviationZone>* zones = nullptr);
+  /// The user's min-size / curvature angle (0: none). The relative deviation bound of a triangle
+  /// whose vertex normals turn faster than 1/reach per unit length (the surface's radius below
+  /// reach) grows by reach x that rate: a triangle with edges at the min-size on such a surface
+  /// then meets it, and the refinement neither goes below the min-size nor flips the triangles
+  /// into needles to chase a bound the min-size forbids. deviationMisses() still reports against
+  /// the plain bound.
+  void setMinSizeReach(double reach) { reach_ = reach; }
   /// A triangle still beyond its deviation bound after refineDeviation.
   struct DeviationMiss {
     double deviation = 0;  ///< centroid distance to the surface
@@ -187,7 +194,8 @@ class Optimizer {
   Vec3 ringApexMean(int v) const;
   /// Deviation triangle (a,b,c) may have under the absolute and relative bounds and, with
   /// withZones, the local zones (+inf: none).
-  double allowedDeviation(int a, int b, int c, bool withZones = true) const;
+  /// relaxed: with setMinSizeReach, the relative bound grown where the min-size forbids it.
+  double allowedDeviation(int a, int b, int c, bool withZones = true, bool relaxed = true) const;
   /// Distance of vertex v from the surface at its (u,v): nonzero only for nodes of CAD edges
   /// that lie off the face within the edge's tolerance.
   double gap(int v) const { return v < (int)gap_.size() ? gap_[v] : 0.0; }
@@ -207,6 +215,7 @@ class Optimizer {
   int smoothPassOver(std::vector<char>* active);
   double maxDev_ = 0;    ///< absolute deviation bound; 0: none
   double devRatio_ = 0;  ///< deviation bound relative to the mean edge length; 0: none
+  double reach_ = 0;     ///< setMinSizeReach
   std::vector<DeviationZone> zones_;  ///< local deviation bounds
   bool deviationBounded() const { return maxDev_ > 0 || devRatio_ > 0 || !zones_.empty(); }
   std::vector<double> gap_;

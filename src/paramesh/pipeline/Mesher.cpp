@@ -144,6 +144,9 @@ std::string fmt(double x) {
 struct Mesher::Impl {
   const IGeometryModel& model;
   MeshParams p;
+  /// The user set min_size (not the default below): the deviation refinement then makes no edge
+  /// shorter than it
+  bool minSizeGiven = false;
   Logger log;
   Progress progress;
   Report report;
@@ -224,6 +227,7 @@ struct Mesher::Impl {
     if (p.maxSize == 0) p.maxSize = p.size;
     // curvature sizing resolves radii down to size/1000 unless told otherwise (fillets, blade
     // tips and leading edges are far smaller than the global size); other sources stop at 1/100
+    minSizeGiven = p.minSize > 0;
     if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / (p.curvatureAngle > 0 ? 1000.0 : 100.0);
     if (p.minSize > p.maxSize) throw ParameterError("min_size (" + fmt(p.minSize) + ") is larger than max_size (" + fmt(p.maxSize) + ")");
     if (p.size < diag * 1e-6)
@@ -1595,7 +1599,14 @@ struct Mesher::Impl {
     // a triangle whose edges subtend the curvature angle t (radians) on a sphere has its centroid
     // t/6 of its edge length off the surface: allow no more (10 degrees: 0.029)
     fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
-    fo.minSplitLength = 0.5 * p.minSize;
+    // A min-size the user set is a floor for the refinement too: it splits no edge shorter than
+    // twice it. Where the curvature bound asks for less, the triangles stay at the min-size and
+    // the report says so; splitting on made needles instead (a torus tube of radius 0.5 at
+    // --size 1 --min-size 1 --curvature-angle 10: 82 % of the triangles below 30 degrees, mean
+    // gamma 0.43). The default min-size (size / 1000 with a curvature angle) is the size field's
+    // floor, not the user's: below it the refinement still splits down to a quarter of it.
+    fo.minSplitLength = minSizeGiven ? 2.0 * p.minSize : 0.5 * p.minSize;
+    fo.minSizeReach = minSizeGiven ? minSizeReach() : 0.0;
     fo.reportOffSurface = p.nearestFaceCheck || p.nearestFaceBudget > 0;
     const std::vector<char> reused = reusePreviousRound(results);
     parallelFor(nf, threads, [&](int f) {
