@@ -11,7 +11,7 @@ import numbers
 # name -> (unit, help)
 FIELDS = {
     "size": ("length", "Target element edge length (straight 3D length). 0: bounding-box diagonal / 50."),
-    "min_size": ("length", "Smallest size a size source (curvature, local size) may ask for. When set, the curvature refinement makes no edge below it either (where the curvature angle needs smaller triangles, they stay at the min-size and the report lists them). 0: size / 100 (size / 1000 with a curvature angle)."),
+    "min_size": ("length", "Smallest size a size source (curvature, local size) may ask for. When set, the curvature refinement makes no edge below it either (where the curvature angle needs smaller triangles, they stay at the min-size and the report lists them). 0: size / 100 (size / 1000 with a curvature angle or a max deviation)."),
     "max_size": ("length", "Largest element size. 0: size."),
     "curvature_angle": ("degree", "Largest angle an element may subtend on curved faces and edges. 0: off."),
     "max_deviation": ("fraction of size", "Largest distance of a triangle centroid from the CAD, as a fraction "

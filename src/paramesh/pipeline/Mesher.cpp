@@ -225,10 +225,11 @@ struct Mesher::Impl {
                          " (beyond " + fmt(kMaxCoordinate) + " model units): its geometry is damaged");
     if (p.size == 0) p.size = diag / 50.0;
     if (p.maxSize == 0) p.maxSize = p.size;
-    // curvature sizing resolves radii down to size/1000 unless told otherwise (fillets, blade
-    // tips and leading edges are far smaller than the global size); other sources stop at 1/100
+    // curvature sizing (for an angle or a deviation) resolves radii down to size/1000 unless told
+    // otherwise (fillets, blade tips and leading edges are far smaller than the global size);
+    // other sources stop at 1/100
     minSizeGiven = p.minSize > 0;
-    if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / (p.curvatureAngle > 0 ? 1000.0 : 100.0);
+    if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / (p.curvatureAngle > 0 || p.maxDeviation > 0 ? 1000.0 : 100.0);
     if (p.minSize > p.maxSize) throw ParameterError("min_size (" + fmt(p.minSize) + ") is larger than max_size (" + fmt(p.maxSize) + ")");
     if (p.size < diag * 1e-6)
       throw ParameterError("size " + fmt(p.size) + " is below 1e-6 of the model diagonal (" + fmt(diag) +
