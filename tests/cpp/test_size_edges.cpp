@@ -133,6 +133,50 @@ TEST(SizeField, MatchesBruteForce) {
   EXPECT_EQ(f.size({1000, 1000, 1000}), hmax);
 }
 
+TEST(SizeField, FieldUnderAnotherIsTheUnionOfTheirSources) {
+  // the nearest-face rounds put a few steep sources over the whole field instead of copying and
+  // rebuilding it: the result must be the field of both source sets
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> P(0, 10), H(0.05, 1.2), Q(-3, 13);
+  const double hmax = 1.0, g = 1.3, steep = 1.0;
+  std::vector<Vec3> pts;
+  std::vector<double> hs, ss;
+  auto base = std::make_shared<SizeField>(hmax, g);
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 p{P(rng), P(rng), P(rng)};
+    const double h = H(rng);
+    pts.push_back(p);
+    hs.push_back(h);
+    ss.push_back(g - 1);
+    base->addSource(p, h);
+  }
+  base->build();
+  const size_t nBase = base->numSources();
+  SizeField top(hmax, g);
+  top.setUnder(base);
+  for (int i = 0; i < 20; ++i) {
+    const Vec3 p{P(rng), P(rng), P(rng)};
+    const double h = 0.01 * H(rng);
+    pts.push_back(p);
+    hs.push_back(h);
+    ss.push_back(steep);
+    top.addSource(p, h, steep);
+  }
+  top.build();
+  EXPECT_EQ(top.numSources(), nBase + 20);
+  int touched = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 x = i % 4 == 0 ? pts[3000 + (i / 4) % 20] + Vec3{0.05, 0, 0} : Vec3{Q(rng), Q(rng), Q(rng)};
+    double ref = hmax;
+    for (size_t k = 0; k < pts.size(); ++k) ref = std::min(ref, hs[k] + ss[k] * dist(x, pts[k]));
+    EXPECT_NEAR(top.size(x), ref, 1e-12 * ref);
+    EXPECT_LE(top.size(x), base->size(x));
+    if (top.ownSize(x) < hmax) ++touched;
+    if (!(top.ownSize(x) < hmax)) EXPECT_EQ(top.size(x), base->size(x));  // out of the new sources' reach
+  }
+  EXPECT_GT(touched, 900);  // the points next to the steep sources
+}
+
 TEST(SizeField, DominatedSourcesChangeNothing) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> P(0, 10), H(0.05, 0.8), Q(-2, 12), D(-1, 1);

@@ -2108,7 +2108,9 @@ MeshOutput Mesher::runUnbudgeted() {
   // the field so far; the nearest-face check adds its sources to it and the mesh is redone. By
   // default (no --nearest-face-check) the refined mesh is kept only within the triangle budget.
   const bool force = d.p.nearestFaceCheck, check = force || d.p.nearestFaceBudget > 0;
-  const SizeField field0 = check ? d.field : SizeField();
+  // the field before the rounds, under each round's field of the sources they add (a copy and
+  // rebuild of the whole field per round took 8 of boxed_sphere --max-deviation 0.001's 20 s)
+  const std::shared_ptr<const SizeField> field0 = check ? std::make_shared<const SizeField>(d.field) : nullptr;
   std::vector<SizeSource> extra;
   std::unique_ptr<Impl::MeshState> unrefined;
   double predictedGrowth = -1;  // set when a next round was predicted over the budget
@@ -2175,7 +2177,8 @@ MeshOutput Mesher::runUnbudgeted() {
       continue;
     }
     extra.insert(extra.end(), src.begin(), src.end());
-    SizeField next = field0;
+    SizeField next(field0->hmax(), field0->slope() + 1.0);
+    next.setUnder(field0);
     for (const SizeSource& s : extra) next.addSource(s.p, std::max(s.h, d.p.minSize), kNearestFaceSlope);
     next.build();
     if (unrefined) {
@@ -2186,6 +2189,12 @@ MeshOutput Mesher::runUnbudgeted() {
       double count = 0;
       for (const auto& T : d.mesh.triangles) {
         const Vec3 c = (1.0 / 3) * (d.mesh.nodes[T[0]] + d.mesh.nodes[T[1]] + d.mesh.nodes[T[2]]);
+        // where the round's sources do not reach, the field is the same as now (they include
+        // the last round's): no query of the millions of sources under them
+        if (!(next.ownSize(c) < next.hmax())) {
+          count += 1.0;
+          continue;
+        }
         const double r = d.field.size(c) / next.size(c);
         count += r * r;
       }

@@ -173,11 +173,16 @@ void SizeField::queryDominating(int id, Vec3 x, double maxSlope, double& best) c
   queryDominating(nd.right, x, maxSlope, best);
 }
 
-double SizeField::size(Vec3 x) const {
+double SizeField::ownSize(Vec3 x) const {
   PM_CHECK(built_, "SizeField::size() before build()");
   double best = hmax_;
   if (!nodes_.empty()) query(0, x, best);
   return best;
+}
+
+double SizeField::size(Vec3 x) const {
+  const double own = ownSize(x);
+  return under_ ? std::min(own, under_->size(x)) : own;
 }
 
 }  // namespace paramesh

@@ -10,6 +10,7 @@
 /// distance, so local sizes stay local and the grading holds across face boundaries. Queries use a
 /// kd-tree with branch-and-bound on the cone bound. Read-only (thread-safe) after build().
 #pragma once
+#include <memory>
 #include <vector>
 
 #include "paramesh/util/Vec.hpp"
@@ -29,10 +30,16 @@ class SizeField {
   void build();
   /// Target size at x. O(log n) typical.
   double size(Vec3 x) const;
+  /// The size from this field's own sources only (not the field under it).
+  double ownSize(Vec3 x) const;
+  /// A built field whose sources count as this one's too: size() is the smaller of the two, which
+  /// is the field of both source sets, without copying or rebuilding the one under (the
+  /// nearest-face rounds add a few sources to millions).
+  void setUnder(std::shared_ptr<const SizeField> under) { under_ = std::move(under); }
 
   double hmax() const { return hmax_; }
   double slope() const { return slope_; }
-  size_t numSources() const { return pts_.size(); }
+  size_t numSources() const { return pts_.size() + (under_ ? under_->numSources() : 0); }
 
  private:
   struct Node {
@@ -52,6 +59,7 @@ class SizeField {
   std::vector<double> ss_;  // per-source slope
   std::vector<Node> nodes_;
   bool built_ = true;
+  std::shared_ptr<const SizeField> under_;
 };
 
 }  // namespace paramesh
