@@ -34,12 +34,16 @@ def _torus():
     return Part.makeTorus(R, r)
 
 
+def _torus_distance(res):
+    """Each triangle's centroid distance to the torus (analytic, independent of ParaMesh)."""
+    C = res.nodes[res.triangles].mean(1)
+    return np.abs(np.hypot(np.hypot(C[:, 0], C[:, 1]) - R, C[:, 2]) - r)
+
+
 def _measure(res):
-    """Centroid distance to the torus / the bound, per triangle (analytic, independent of ParaMesh)."""
-    P, T = res.nodes, res.triangles
-    X = P[T]
-    C = X.mean(1)
-    d = np.abs(np.hypot(np.hypot(C[:, 0], C[:, 1]) - R, C[:, 2]) - r)
+    """Centroid distance to the torus / the bound, per triangle."""
+    X = res.nodes[res.triangles]
+    d = _torus_distance(res)
     L = (np.linalg.norm(X[:, 0] - X[:, 1], axis=1) + np.linalg.norm(X[:, 1] - X[:, 2], axis=1)
          + np.linalg.norm(X[:, 2] - X[:, 0], axis=1)) / 3
     return d / (RATIO * L)
@@ -116,8 +120,7 @@ def test_max_deviation_sizes_the_faces():
     refinement met it on the faces edge split by edge split, in needles (this torus: mean gamma
     0.68, 39 % of the triangles below 30 degrees, smallest angle 0.98)."""
     res = pm.mesh_shape(_torus(), size=1.0, max_deviation=0.01)
-    C = res.nodes[res.triangles].mean(1)
-    d = np.abs(np.hypot(np.hypot(C[:, 0], C[:, 1]) - R, C[:, 2]) - r)
+    d = _torus_distance(res)
     assert d.max() <= 0.01, d.max()  # measured 0.00992 over 4 378 triangles
     _assert_shapely(res, 0.01, gamma=0.95)  # measured: mean gamma 0.989, smallest angle 37.3
     assert _over(res.report) == []

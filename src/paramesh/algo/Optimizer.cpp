@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <tuple>
 
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/size/Sources.hpp"
@@ -427,45 +428,44 @@ int Optimizer::refineDeviation(double maxDev, double ratio, double minEdge, cons
 bool Optimizer::collapseForDeviation(int t) {
   const Triangle tr = T_.tris[t];
   if (!((T_.verts[tr.v[0]].flags | T_.verts[tr.v[1]].flags | T_.verts[tr.v[2]].flags) & VF_CREST)) return false;
-  std::vector<int> ra;
   for (int k = 0; k < 3; ++k) {
     const int a = tr.v[k];
-    if (T_.verts[a].flags & VF_FIXED) continue;
-    bool closed = true;
-    T_.ring(a, ra, &closed);
-    if (!closed) continue;
+    if (!movableWithRing(a)) continue;  // ring_: a's triangles
     // the ring's worst quality, which no collapse may take below kFoldMinQuality (no collinear
     // triangle) unless it was there already
     double q0 = 1e300;
-    for (int r : ra) q0 = std::min(q0, quality(r));
-    // neighbours b of a: crest vertices first, then the nearest in 3D
-    std::vector<std::pair<double, int>> cand;  // (key, triangle of the ring whose next vertex after a is b)
-    for (int r : ra) {
-      const int ka = T_.indexOf(r, a);
-      const int b = T_.tris[r].v[nx(ka)];
-      const double key = dist(T_.verts[a].xyz, T_.verts[b].xyz) + ((T_.verts[b].flags & VF_CREST) ? 0 : 1e10);
-      cand.push_back({key, r});
+    for (int r : ring_) q0 = std::min(q0, quality(r));
+    // neighbours b of a (each the vertex after a in one ring triangle r): crest vertices first,
+    // then the nearest in 3D
+    struct Cand {
+      bool notCrest;
+      double d;
+      int r, b;
+      bool operator<(const Cand& o) const { return std::tie(notCrest, d, r) < std::tie(o.notCrest, o.d, o.r); }
+    };
+    std::vector<Cand> cand;
+    for (int r : ring_) {
+      const int b = T_.tris[r].v[nx(T_.indexOf(r, a))];
+      cand.push_back({!(T_.verts[b].flags & VF_CREST), dist(T_.verts[a].xyz, T_.verts[b].xyz), r, b});
     }
     std::sort(cand.begin(), cand.end());
-    for (const auto& [key, r] : cand) {
-      const int ka = T_.indexOf(r, a);
-      const int b = T_.tris[r].v[nx(ka)];
-      // the relabelled triangles' quality
-      double q1 = 1e300;
+    for (const Cand& c : cand) {
+      // the relabelled triangles (a replaced by b; those with b vanish)
       bool ok = true;
-      for (int x : ra) {
+      for (int x : ring_) {
         const Triangle& X = T_.tris[x];
-        if (X.v[0] == b || X.v[1] == b || X.v[2] == b) continue;
+        if (X.v[0] == c.b || X.v[1] == c.b || X.v[2] == c.b) continue;
         Vec3 p[3];
-        for (int j = 0; j < 3; ++j) p[j] = T_.verts[X.v[j] == a ? b : X.v[j]].xyz;
-        q1 = std::min(q1, gamma3(p[0], p[1], p[2]));
-        if (q1 < std::min(q0, kFoldMinQuality)) ok = false;
+        for (int j = 0; j < 3; ++j) p[j] = T_.verts[X.v[j] == a ? c.b : X.v[j]].xyz;
+        if (gamma3(p[0], p[1], p[2]) < std::min(q0, kFoldMinQuality)) {
+          ok = false;
+          break;
+        }
       }
-      if (!ok) continue;
       // collapse() checks validity and every deviation bound of the relabelled triangles
-      if (collapse(r, pv(ka), false)) {
-        touch(b);
-        addToRegion(b);
+      if (ok && collapse(c.r, pv(T_.indexOf(c.r, a)), false)) {
+        touch(c.b);
+        addToRegion(c.b);
         return true;
       }
     }
