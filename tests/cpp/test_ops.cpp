@@ -7,6 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <BRepTools.hxx>
 #include <TopoDS_Face.hxx>
 #include <gp_Ax3.hxx>
@@ -31,6 +35,7 @@
 #include <sched.h>
 #endif
 
+#include "paramesh/algo/Crest.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
 #include "paramesh/algo/Optimizer.hpp"
 #include "paramesh/util/Parallel.hpp"
@@ -776,4 +781,94 @@ TEST(Parallel, DefaultThreadCountIsTheCpusThisProcessMayUse) {
   EXPECT_LE(n, CPU_COUNT(&set));
 #endif
   EXPECT_EQ(resolveThreads(3), 3);
+}
+
+namespace {
+/// A face folded along x = 0: the quadratic B-spline section through poles (-1, m), (-e, m e),
+/// (e, m e), (1, m) in (x, z), extruded over y in [0, 4]. Its flanks (slopes -m and m) meet over
+/// a crest at (0, y, m e) whose radius (a few e^2 / m) lies far below the mesh size.
+std::unique_ptr<IGeometryModel> foldedFace(double e, double m) {
+  TColgp_Array2OfPnt poles(1, 4, 1, 2);
+  const double xz[4][2] = {{-1, m}, {-e, m * e}, {e, m * e}, {1, m}};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 2; ++j) poles.SetValue(i + 1, j + 1, gp_Pnt(xz[i][0], 4.0 * j, xz[i][1]));
+  TColStd_Array1OfReal uk(1, 3), vk(1, 2);
+  TColStd_Array1OfInteger um(1, 3), vm(1, 2);
+  uk(1) = 0, uk(2) = 0.5, uk(3) = 1, um(1) = 3, um(2) = 1, um(3) = 3;
+  vk(1) = 0, vk(2) = 1, vm(1) = 2, vm(2) = 2;
+  Handle(Geom_BSplineSurface) S = new Geom_BSplineSurface(poles, uk, vk, um, vm, 2, 1);
+  TopoDS_Face face = BRepBuilderAPI_MakeFace(S, 1e-7).Face();
+  std::ostringstream out;
+  BRepTools::Write(face, out);
+  return loadOccModelFromBrepString(out.str());
+}
+}  // namespace
+
+TEST(Ops, CrestOfAFoldFarBelowTheSizeIsEmbedded) {
+  // folds of 90, 143 and 158 degrees (flank slopes 1, 3, 5) at h = 0.2 with centroids bounded to
+  // 0.03 of their mean edge (the curvature angle's bound): isotropic refinement would need edges
+  // of the crest's radius x 10 degrees. The crest is traced and embedded, so every triangle lies on
+  // one flank. Measured on the triangles clear of the two ends y = 0 and y = 4, whose boundary
+  // this test discretises at the constant size (the pipeline gives edges curvature sizes too): a
+  // segment there cuts across the fold whatever the face mesher does
+  int plainOver = 0;
+  for (double slope : {1.0, 3.0, 5.0}) {
+    SCOPED_TRACE("slope " + std::to_string(slope));
+    auto model = foldedFace(0.02, slope);
+    auto surf = model->makeSurface(0);
+    const SizeField field = constantField(0.2);
+    std::vector<Vec3> nodeXyz;
+    FaceBoundary fb;
+    ASSERT_NO_FATAL_FAILURE(discretizedBoundary(*model, field, 0, fb, nodeXyz));
+    FaceMeshOptions opt;
+    opt.maxDeviationRatio = 0.03;
+    opt.minSplitLength = 0.05;
+    // triangles over 0.03 (distance: an upper bound, a projection's foot seeded at the centroid's
+    // and each corner's (u,v)), the worst ratio, vertices on the crest, and triangles facing away
+    // from the surface at their centroid's (u,v)
+    auto measure = [&](const FaceMeshResult& r, int& over, double& worst, int& onCrest, int& away) {
+      auto xyz = [&](int ref) { return ref >= 0 ? nodeXyz[ref] : r.newXyz[-ref - 1]; };
+      over = 0, worst = 0, onCrest = 0, away = 0;
+      for (const Vec3& x : r.newXyz)
+        if (std::fabs(x.x) < 1e-4 && std::fabs(x.z - 0.02 * slope) < 1e-4) ++onCrest;
+      for (size_t k = 0; k < r.tris.size(); ++k) {
+        const auto& t = r.tris[k];
+        const Vec3 a = xyz(t[0]), b = xyz(t[1]), c = xyz(t[2]);
+        const Vec3 g = (1.0 / 3) * (a + b + c);
+        const Vec2 s = (1.0 / 3) * (r.triUv[k][0] + r.triUv[k][1] + r.triUv[k][2]);
+        Vec3 n;
+        ASSERT_TRUE(surf->normal(s, n));
+        if (!(dot(cross(b - a, c - a), n) > 0)) ++away;
+        if (std::min({a.y, b.y, c.y}) < 1e-9 || std::max({a.y, b.y, c.y}) > 4 - 1e-9) continue;
+        double d = 1e300;
+        for (Vec2 uv : {s, r.triUv[k][0], r.triUv[k][1], r.triUv[k][2]}) {
+          Vec3 p;
+          if (surf->project(g, uv, &p)) d = std::min(d, dist(g, p));
+        }
+        const double ratio = d / ((dist(a, b) + dist(b, c) + dist(c, a)) / 3);
+        worst = std::max(worst, ratio);
+        if (ratio > 0.03 + 1e-9) ++over;
+      }
+    };
+    opt.embedCrests = false;
+    const FaceMeshResult plain = meshFace(*surf, fb, field, opt, nullptr);
+    ASSERT_TRUE(plain.ok) << plain.error;
+    opt.embedCrests = true;
+    const FaceMeshResult lined = meshFace(*surf, fb, field, opt, nullptr);
+    ASSERT_TRUE(lined.ok) << lined.error;
+    int over0, over1, crest0, crest1, away0, away1;
+    double worst0, worst1;
+    ASSERT_NO_FATAL_FAILURE(measure(plain, over0, worst0, crest0, away0));
+    ASSERT_NO_FATAL_FAILURE(measure(lined, over1, worst1, crest1, away1));
+    plainOver += over0 + away0;
+    // the crest runs 4 long and its line keeps half a size from both ends: 19 segments of 0.2
+    EXPECT_EQ(lined.crestSegments, 19);
+    EXPECT_GE(crest1, 20) << "vertices on the crest (0, y, 0.02 slope)";
+    EXPECT_EQ(over1, 0) << "worst " << worst1;
+    EXPECT_LT(worst1, 0.02);
+    EXPECT_EQ(away1, 0);
+    std::printf("[ measured ] slope %.0f: without the crest %d over 0.03 (worst %.4f), %d facing away; with it %d "
+                "(worst %.4f), %d\n", slope, over0, worst0, away0, over1, worst1, away1);
+  }
+  EXPECT_GT(plainOver, 0) << "the folds are beyond the crest splits alone";
 }

@@ -168,14 +168,6 @@ struct Column {
   double wEnd[2] = {0, 0};  ///< blending weights towards the run's start / end outermost column
 };
 
-/// Distance from x to the segment (a, b) in 3D.
-double segmentDistance(Vec3 x, Vec3 a, Vec3 b) {
-  const Vec3 e = b - a;
-  const double l2 = norm2(e);
-  const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
-  return dist(x, a + t * e);
-}
-
 /// Segments in 3D buckets (cubes of side `cell`): each segment is listed in the buckets met by
 /// the boxes of its pieces of at most one cell, so that a query near a point looks at a few
 /// buckets instead of every segment (the layer collision tests ran once per step over every

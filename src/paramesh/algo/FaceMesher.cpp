@@ -9,6 +9,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "paramesh/algo/Crest.hpp"
 #include "paramesh/algo/Optimizer.hpp"
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/algo/Recombine.hpp"
@@ -248,6 +249,8 @@ class Frontal {
     }
     // 3D placement: from the 3D edge midpoint, in the tangent plane, at the same relative height
     Vec3 nrm = A.normal + B.normal;
+    // a front edge along a crest (no normals): the flank of the triangle being processed
+    if (norm2(nrm) < 1e-20 && (A.flags & B.flags & VF_CREST) && norm2(Cv.normal) > 0) nrm = Cv.normal;
     if (norm2(nrm) < 1e-20) {
       if (!C_.surf.normal(C_.toParam(0.5 * (A.uv + B.uv)), nrm)) nrm = Cv.normal;
     }
@@ -411,9 +414,25 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       const double hmax = size.hmax();
       if (hmax > 0) progress->require((long)std::min(1e15, area / (0.4330127 * hmax * hmax) / 2));
     }
+    // under the curvature bound, folds far narrower than the mesh get their crest embedded: the
+    // frontal mesh finds the edges across them, the crests are traced from there, and the face is
+    // meshed again from its boundary with the crests as constrained edges
+    const bool crests = opt.maxDeviationRatio > 0 && opt.embedCrests && !C.planar;
+    Triangulation start;
+    if (crests) start = T;
     Frontal fr(T, C, opt, progress);
     fr.run();
     res.rejectedPoints = fr.rejected;
+    if (crests) {
+      const std::vector<std::vector<Vec2>> lines = traceCrests(T, C);
+      if (!lines.empty()) {
+        T = std::move(start);
+        res.crestSegments = embedCrests(T, C, lines);
+        Frontal again(T, C, opt, progress);
+        again.run();
+        res.rejectedPoints = again.rejected;
+      }
+    }
     refineFolded(T, C);
     Optimizer O(T, C, progress);
     O.setMinSizeReach(opt.minSizeReach);

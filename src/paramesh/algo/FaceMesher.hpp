@@ -42,6 +42,7 @@ struct FaceMeshOptions {
   double maxDeviation = 0;      ///< max distance of a triangle centroid from the surface (length); 0: off
   double maxDeviationRatio = 0; ///< max centroid distance from the surface / the triangle's mean edge; 0: off
   double minSplitLength = 0;    ///< deviation refinement splits no edge shorter than this
+  bool embedCrests = true;      ///< with maxDeviationRatio: embed the crests of folds narrower than the mesh (Crest.hpp)
   /// The user's min-size / curvature angle (0: none): where the surface turns faster than that
   /// radius, the relative deviation bound grows to what triangles at the min-size can meet
   /// (Optimizer::setMinSizeReach)
@@ -83,6 +84,7 @@ struct FaceMeshResult {
   };
   std::vector<DeviationMiss> deviationMisses;
   int rejectedPoints = 0;
+  int crestSegments = 0;  ///< constrained edges embedded along fold crests (Crest.hpp)
   int degenerateDropped = 0;
 };
 

@@ -119,6 +119,10 @@ class Triangulation {
   /// Flip test in the mean metric of the four vertices.
   bool metricFlip(int t, int i) const;
 
+  /// Makes a-b an edge of the triangulation (retriangulating the triangles it crosses) and
+  /// constrains it; false with a reason when a constrained edge is in the way.
+  bool insertSegment(int a, int b, std::string& why) { return recoverSegment(a, b, why); }
+
   /// Drops dead triangles and vertices no triangle uses, keeping order. Returns old->new vertex map.
   std::vector<int> compact();
 

@@ -1719,6 +1719,7 @@ struct Mesher::Impl {
       fr.quads = (int)r.quads.size();
       fr.nodes = (int)r.newXyz.size();
       fr.overDeviation = (int)r.deviationMisses.size();
+      fr.crestSegments = r.crestSegments;
       fr.overDeviationWorst = 0;
       fr.overDeviationRadius = std::numeric_limits<double>::infinity();
       fr.overDeviationResolvable = 0;

@@ -31,6 +31,8 @@ struct FaceReport {
   /// of overDeviation, those where that radius is at least min-size / curvature angle (the
   /// min-size did not keep them from following the surface); 0 without a curvature angle
   int overDeviationResolvable = 0;
+  /// edges embedded along the crests of folds narrower than the mesh (--curvature-angle; Crest.hpp)
+  int crestSegments = 0;
 };
 
 /// Quality summary of the surface elements (triangles; quads reported separately).

@@ -83,6 +83,7 @@ Json reportToJson(const Report& r) {
     fj["quads"] = f.quads;
     fj["interior_nodes"] = f.nodes;
     fj["seconds"] = f.seconds;
+    if (f.crestSegments > 0) fj["crest_segments"] = f.crestSegments;
     if (f.overDeviation > 0) {
       Json& od = fj["over_deviation_bound"];
       od["triangles"] = f.overDeviation;

@@ -2,6 +2,7 @@
 /// @file Vec.hpp
 /// Small fixed-size vector types used everywhere in the core (no Eigen in hot paths).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -46,6 +47,13 @@ inline Vec3 cross(Vec3 a, Vec3 b) {
 inline double norm2(Vec3 a) { return dot(a, a); }
 inline double norm(Vec3 a) { return std::sqrt(dot(a, a)); }
 inline double dist(Vec3 a, Vec3 b) { return norm(a - b); }
+/// Distance from x to the segment (a, b).
+inline double segmentDistance(Vec3 x, Vec3 a, Vec3 b) {
+  const Vec3 e = b - a;
+  const double l2 = dot(e, e);
+  const double t = l2 > 0 ? std::clamp(dot(x - a, e) / l2, 0.0, 1.0) : 0.0;
+  return norm(x - (a + t * e));
+}
 /// Unit vector along a; returns a unchanged when it is (numerically) zero.
 inline Vec3 normalized(Vec3 a) {
   double n = norm(a);

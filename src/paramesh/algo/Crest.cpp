@@ -1,0 +1,302 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+#include "paramesh/algo/Crest.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "paramesh/algo/Predicates.hpp"
+#include "paramesh/algo/SurfaceContext.hpp"
+#include "paramesh/algo/Triangulation.hpp"
+#include "paramesh/size/Sources.hpp"
+
+namespace paramesh {
+namespace {
+
+/// Local frame of the surface at a scaled (u,v): the tangents per scaled unit, the normal, and the
+/// largest principal curvature with the (scaled (u,v)) direction of the other one, along which a
+/// crest runs.
+struct Frame {
+  Vec3 x, ju, jv, n;
+  double k = 0;
+  Vec2 along{0, 0};
+  bool ok = false;
+};
+
+Frame frameAt(const SurfaceContext& C, Vec2 s) {
+  Frame f;
+  SurfaceD2 d;
+  C.surf.d2(C.toParam(s), d);
+  f.x = d.p;
+  f.ju = (1.0 / C.su) * d.du;
+  f.jv = (1.0 / C.sv) * d.dv;
+  const Vec3 c = cross(f.ju, f.jv);
+  const double lc = norm(c);
+  const double E = dot(f.ju, f.ju), F = dot(f.ju, f.jv), G = dot(f.jv, f.jv);
+  const double W = E * G - F * F;
+  if (!(lc > 1e-12 * std::sqrt(E * G)) || !(W > 0)) return f;
+  f.n = (1.0 / lc) * c;
+  const double L = dot(d.duu, f.n) / (C.su * C.su), M = dot(d.duv, f.n) / (C.su * C.sv),
+               N = dot(d.dvv, f.n) / (C.sv * C.sv);
+  const double K = (L * N - M * M) / W, H = (E * N - 2 * F * M + G * L) / (2 * W);
+  const double root = std::sqrt(std::max(H * H - K, 0.0));
+  const double k1 = H + root, k2 = H - root;
+  // the curvature of the largest magnitude, and the direction of the other (II - k I) x = 0
+  const double kBig = std::fabs(k1) >= std::fabs(k2) ? k1 : k2, kSmall = kBig == k1 ? k2 : k1;
+  f.k = std::fabs(kBig);
+  const Vec2 r1{M - kSmall * F, -(L - kSmall * E)}, r2{N - kSmall * G, -(M - kSmall * F)};
+  f.along = dot(r1, r1) >= dot(r2, r2) ? r1 : r2;
+  f.ok = std::isfinite(f.k) && dot(f.along, f.along) > 0;
+  return f;
+}
+
+/// The scaled (u,v) direction whose tangent image is the 3D vector w (least squares).
+Vec2 toUV(const Frame& f, Vec3 w) {
+  const double E = dot(f.ju, f.ju), F = dot(f.ju, f.jv), G = dot(f.jv, f.jv);
+  const double a = dot(f.ju, w), b = dot(f.jv, w), det = E * G - F * F;
+  if (!(det > 0)) return {0, 0};
+  return {(G * a - F * b) / det, (E * b - F * a) / det};
+}
+
+Vec3 image(const Frame& f, Vec2 d) { return d.x * f.ju + d.y * f.jv; }
+
+class Tracer {
+ public:
+  Tracer(const Triangulation& T, const SurfaceContext& C, const CrestOptions& o) : T_(T), C_(C), o_(o) {
+    for (int t = 0; t < (int)T.tris.size(); ++t) {
+      const Triangle& tr = T.tris[t];
+      if (tr.dead) continue;
+      for (int i = 0; i < 3; ++i)
+        if (T.isConstrained(t, i)) bnd_.push_back({T.verts[tr.v[(i + 1) % 3]].xyz, T.verts[tr.v[(i + 2) % 3]].xyz});
+    }
+  }
+
+  double size(Vec3 x) const {
+    double h = C_.field.size(x);
+    if (C_.overlay) h = std::min(h, C_.overlay->size(x));
+    return h;
+  }
+
+  /// Crest point on the scaled (u,v) segment [a, b]: the largest curvature (samples, then golden
+  /// section). False when it is not a crease at the mesh's scale.
+  bool crestOn(Vec2 a, Vec2 b, Vec2& at, double& k) const {
+    auto kAt = [&](double f) { return maxCurvature(C_.surf, C_.toParam(a + f * (b - a))); };
+    constexpr int n = 16;
+    double best = -1, f0 = 0.5;
+    for (int i = 0; i <= n; ++i) {
+      const double v = kAt(double(i) / n);
+      if (v > best) {
+        best = v;
+        f0 = double(i) / n;
+      }
+    }
+    constexpr double g = 0.618033988749895;
+    double lo = std::max(0.0, f0 - 1.0 / n), hi = std::min(1.0, f0 + 1.0 / n);
+    double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo), d1 = kAt(m1), d2 = kAt(m2);
+    for (int it = 0; it < 30; ++it) {
+      if (d1 > d2) {
+        hi = m2, m2 = m1, d2 = d1, m1 = hi - g * (hi - lo), d1 = kAt(m1);
+      } else {
+        lo = m1, m1 = m2, d1 = d2, m2 = lo + g * (hi - lo), d2 = kAt(m2);
+      }
+    }
+    double f = 0.5 * (lo + hi);
+    k = kAt(f);
+    if (best > k) {  // the sample itself (the refinement's bracket held no higher point)
+      f = f0;
+      k = best;
+    }
+    // the largest at an end of the segment: no ridge inside it
+    if (f0 == 0.0 || f0 == 1.0) {
+      at = a + f0 * (b - a);
+      return false;
+    }
+    at = a + f * (b - a);
+    return crease(at, k);
+  }
+
+  bool crease(Vec2 s, double k) const {
+    if (!C_.inDomain(s)) return false;
+    const Vec3 x = C_.surf.eval(C_.toParam(s));
+    const double h = size(x);
+    return k * h > o_.creaseScale && clear(x, o_.clearance * h);
+  }
+
+  /// No boundary segment, no crest point of another line, and no point of the line being traced
+  /// that lies farther than `near` from arc position `arc` along it, within r of x.
+  bool clear(Vec3 x, double r, double arc = 0, double near = -1) const {
+    for (const auto& s : bnd_)
+      if (segmentDistance(x, s.first, s.second) < r) return false;
+    for (const auto& P : pts_)
+      for (const Vec3& p : P)
+        if (dist(x, p) < r) return false;
+    if (near >= 0)
+      for (const auto& [p, a] : cur_)
+        if (std::fabs(a - arc) > near && dist(x, p) < r) return false;
+    return true;
+  }
+
+  /// Follows the crest from s (a crest point) in direction sign; appends the points (3D, uv).
+  void follow(Vec2 s, double sign, std::vector<Vec2>& uv, std::vector<Vec3>& xyz) {
+    double arc = 0;
+    Frame f = frameAt(C_, s);
+    if (!f.ok) return;
+    Vec3 t3 = normalized(image(f, f.along));
+    if (sign < 0) t3 = -1.0 * t3;
+    for (int step = 0; total_ < o_.maxPoints; ++step, ++total_) {
+      const double h = size(f.x), len = 0.25 * h;
+      // predict along the crest, then back onto its ridge across it
+      Vec2 q = s + len * normalizedUV(f, t3);
+      if (!C_.inDomain(q)) return;
+      const Frame fq = frameAt(C_, q);
+      if (!(norm2(fq.n) > 0)) return;
+      const Vec3 c3 = normalized(cross(fq.n, t3));
+      const Vec2 cu = normalizedUV(fq, c3);
+      Vec2 at;
+      double k;
+      const bool ok = crestOn(q - 0.5 * len * cu, q + 0.5 * len * cu, at, k);
+      if (!ok) return;
+      const Frame fn = frameAt(C_, at);
+      if (!fn.ok) return;
+      const Vec3 d = fn.x - f.x;
+      // the step must have gone forward, by about its length
+      if (!(dot(d, t3) > 0.5 * len) || norm(d) > 2.0 * len) return;
+      arc += sign * norm(d);
+      if (!clear(fn.x, o_.clearance * h, arc, 3.0 * o_.clearance * h)) return;
+      cur_.push_back({fn.x, arc});
+      t3 = normalized(d);
+      s = at;
+      f = fn;
+      uv.push_back(s);
+      xyz.push_back(f.x);
+    }
+  }
+
+  /// The scaled (u,v) step of 3D length 1 along the tangent direction w.
+  static Vec2 normalizedUV(const Frame& f, Vec3 w) {
+    const Vec2 d = toUV(f, w);
+    const double l = norm(image(f, d));
+    return l > 0 ? (1.0 / l) * d : Vec2{0, 0};
+  }
+
+  std::vector<std::vector<Vec2>> run() {
+    // seeds: crest points on the edges whose ends face far apart
+    struct Seed {
+      double k;
+      Vec2 s;
+    };
+    std::vector<Seed> seeds;
+    for (int t = 0; t < (int)T_.tris.size(); ++t) {
+      const Triangle& tr = T_.tris[t];
+      if (tr.dead) continue;
+      for (int i = 0; i < 3; ++i) {
+        const int a = tr.v[(i + 1) % 3], b = tr.v[(i + 2) % 3];
+        if (a > b && tr.n[i] >= 0) continue;  // each interior edge once
+        const TriVertex &A = T_.verts[a], &B = T_.verts[b];
+        if (!(norm2(A.normal) > 0 && norm2(B.normal) > 0) || dot(A.normal, B.normal) >= o_.seedCos) continue;
+        Vec2 at;
+        double k;
+        if (crestOn(A.uv, B.uv, at, k)) seeds.push_back({k, at});
+      }
+    }
+    std::sort(seeds.begin(), seeds.end(), [](const Seed& x, const Seed& y) {
+      return x.k > y.k || (x.k == y.k && (x.s.x < y.s.x || (x.s.x == y.s.x && x.s.y < y.s.y)));
+    });
+    std::vector<std::vector<Vec2>> out;
+    for (const Seed& sd : seeds) {
+      if (total_ >= o_.maxPoints) break;
+      const Vec3 x = C_.surf.eval(C_.toParam(sd.s));
+      const double h = size(x);
+      if (!clear(x, o_.clearance * h)) continue;  // on a line traced already
+      cur_.assign(1, {x, 0.0});
+      std::vector<Vec2> fwdUV{sd.s}, bwdUV;
+      std::vector<Vec3> fwdX{x}, bwdX;
+      follow(sd.s, 1, fwdUV, fwdX);
+      follow(sd.s, -1, bwdUV, bwdX);
+      pts_.emplace_back();
+      for (const auto& c : cur_) pts_.back().push_back(c.first);
+      std::vector<Vec2> uv(bwdUV.rbegin(), bwdUV.rend());
+      std::vector<Vec3> xyz(bwdX.rbegin(), bwdX.rend());
+      uv.insert(uv.end(), fwdUV.begin(), fwdUV.end());
+      xyz.insert(xyz.end(), fwdX.begin(), fwdX.end());
+      // resample by arc length to about the size
+      std::vector<double> arc(xyz.size(), 0.0);
+      for (size_t i = 1; i < xyz.size(); ++i) arc[i] = arc[i - 1] + dist(xyz[i - 1], xyz[i]);
+      const double total = arc.back();
+      double hMean = 0;
+      for (const Vec3& p : xyz) hMean += size(p);
+      hMean /= (double)xyz.size();
+      const int n = (int)std::lround(total / hMean);
+      if (n < 1) continue;  // shorter than the size: a point the flips can line up with
+      std::vector<Vec2> line;
+      size_t j = 0;
+      for (int i = 0; i <= n; ++i) {
+        const double target = total * i / n;
+        while (j + 1 < arc.size() && std::fabs(arc[j + 1] - target) <= std::fabs(arc[j] - target)) ++j;
+        if (line.empty() || !(line.back().x == uv[j].x && line.back().y == uv[j].y)) line.push_back(uv[j]);
+      }
+      if (line.size() >= 2) out.push_back(std::move(line));
+    }
+    return out;
+  }
+
+ private:
+  const Triangulation& T_;
+  const SurfaceContext& C_;
+  const CrestOptions& o_;
+  std::vector<std::pair<Vec3, Vec3>> bnd_;
+  std::vector<std::vector<Vec3>> pts_;  ///< traced points of each line (3D)
+  std::vector<std::pair<Vec3, double>> cur_;  ///< the line being traced: points and arc positions
+  int total_ = 0;
+};
+
+}  // namespace
+
+std::vector<std::vector<Vec2>> traceCrests(const Triangulation& T, const SurfaceContext& C, const CrestOptions& o) {
+  if (C.planar) return {};
+  Tracer tr(T, C, o);
+  return tr.run();
+}
+
+int embedCrests(Triangulation& T, const SurfaceContext& C, const std::vector<std::vector<Vec2>>& crests) {
+  int segments = 0;
+  const Triangulation::FlipTest delaunay = [&T](int t, int i) { return T.delaunayFlip(t, i); };
+  for (const std::vector<Vec2>& line : crests) {
+    int prev = -1;
+    for (const Vec2& s : line) {
+      // the walk stops at constrained edges (the boundary's, the crests'): from the previous
+      // crest vertex, else over every triangle
+      int e = -1;
+      int t = prev >= 0 ? T.locate(s, T.verts[prev].tri, &e) : -1;
+      for (int k = 0; t < 0 && k < (int)T.tris.size(); ++k) {
+        const Triangle& tr = T.tris[k];
+        if (tr.dead) continue;
+        int zero = -1, neg = 0;
+        for (int i = 0; i < 3; ++i) {
+          const int o = orient2d(T.verts[tr.v[(i + 1) % 3]].uv, T.verts[tr.v[(i + 2) % 3]].uv, s);
+          if (o < 0) neg = 1;
+          if (o == 0) zero = i;
+        }
+        if (!neg) {
+          t = k;
+          e = zero;
+        }
+      }
+      if (t < 0 || (e >= 0 && T.isConstrained(t, e)) || !T.insertionIsValid(s, t, e)) break;
+      TriVertex v = C.makeVertex(s);
+      v.normal = Vec3{0, 0, 0};
+      v.flags |= VF_CREST;
+      const int id = T.addVertex(v);
+      T.insert(id, t, e, delaunay, nullptr);
+      if (prev >= 0) {
+        std::string why;
+        if (!T.insertSegment(prev, id, why)) break;
+        ++segments;
+      }
+      prev = id;
+    }
+  }
+  return segments;
+}
+
+}  // namespace paramesh
