@@ -416,8 +416,9 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     }
     // under the curvature bound, folds far narrower than the mesh get their crest embedded: the
     // frontal mesh finds the edges across them, the crests are traced from there, and the face is
-    // meshed again from its boundary with the crests as constrained edges
-    const bool crests = opt.maxDeviationRatio > 0 && opt.embedCrests && !C.planar;
+    // meshed again from its boundary with the crests as constrained edges. Not when the user set
+    // the min-size (minSizeReach): that one wins over the curvature angle
+    const bool crests = opt.maxDeviationRatio > 0 && opt.embedCrests && !C.planar && !(opt.minSizeReach > 0);
     Triangulation start;
     if (crests) start = T;
     Frontal fr(T, C, opt, progress);
