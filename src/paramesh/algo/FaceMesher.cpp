@@ -68,6 +68,7 @@ class Frontal {
       : T_(T), C_(C), opt_(o), progress_(p) {}
 
   int rejected = 0;
+  long insertedPoints = 0;  ///< points inserted (spent against the progress's point budget)
 
   void run() {
     grow();
@@ -128,6 +129,7 @@ class Frontal {
       }
     }
     if (progress_) progress_->spend(inserted - spent);  // the rest (small faces never reach 1024)
+    insertedPoints = inserted;
   }
 
  private:
@@ -427,6 +429,8 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     if (crests) {
       const std::vector<std::vector<Vec2>> lines = traceCrests(T, C);
       if (!lines.empty()) {
+        // the first mesh is discarded: its points do not count against the point budget
+        if (progress) progress->refund(fr.insertedPoints);
         T = std::move(start);
         res.crestSegments = embedCrests(T, C, lines);
         Frontal again(T, C, opt, progress);

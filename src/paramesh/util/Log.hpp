@@ -72,6 +72,10 @@ class Progress {
   void require(long n) const {
     if (budget_ > 0 && spent_.load(std::memory_order_relaxed) + n > budget_) stopOverBudget();
   }
+  /// Gives back n points counted by spend() whose work was discarded (a face meshed again).
+  void refund(long n) const {
+    if (budget_ > 0) spent_.fetch_sub(n, std::memory_order_relaxed);
+  }
   bool overBudget() const { return overBudget_.load(); }
 
  private:
