@@ -14,11 +14,9 @@ namespace paramesh {
 namespace {
 
 /// Local frame of the surface at a scaled (u,v): the tangents per scaled unit, the normal, and the
-/// largest principal curvature with the (scaled (u,v)) direction of the other one, along which a
-/// crest runs.
+/// (scaled (u,v)) principal direction of the smaller curvature, along which a crest runs.
 struct Frame {
   Vec3 x, ju, jv, n;
-  double k = 0;
   Vec2 along{0, 0};
   bool ok = false;
 };
@@ -43,10 +41,9 @@ Frame frameAt(const SurfaceContext& C, Vec2 s) {
   const double k1 = H + root, k2 = H - root;
   // the curvature of the largest magnitude, and the direction of the other (II - k I) x = 0
   const double kBig = std::fabs(k1) >= std::fabs(k2) ? k1 : k2, kSmall = kBig == k1 ? k2 : k1;
-  f.k = std::fabs(kBig);
   const Vec2 r1{M - kSmall * F, -(L - kSmall * E)}, r2{N - kSmall * G, -(M - kSmall * F)};
   f.along = dot(r1, r1) >= dot(r2, r2) ? r1 : r2;
-  f.ok = std::isfinite(f.k) && dot(f.along, f.along) > 0;
+  f.ok = std::isfinite(kBig) && dot(f.along, f.along) > 0;
   return f;
 }
 
@@ -69,12 +66,6 @@ class Tracer {
       for (int i = 0; i < 3; ++i)
         if (T.isConstrained(t, i)) bnd_.push_back({T.verts[tr.v[(i + 1) % 3]].xyz, T.verts[tr.v[(i + 2) % 3]].xyz});
     }
-  }
-
-  double size(Vec3 x) const {
-    double h = C_.field.size(x);
-    if (C_.overlay) h = std::min(h, C_.overlay->size(x));
-    return h;
   }
 
   /// Crest point on the scaled (u,v) segment [a, b]: the largest curvature (samples, then golden
@@ -118,7 +109,7 @@ class Tracer {
   bool crease(Vec2 s, double k) const {
     if (!C_.inDomain(s)) return false;
     const Vec3 x = C_.surf.eval(C_.toParam(s));
-    const double h = size(x);
+    const double h = C_.size(x);
     return k * h > o_.creaseScale && clear(x, o_.clearance * h);
   }
 
@@ -144,7 +135,7 @@ class Tracer {
     Vec3 t3 = normalized(image(f, f.along));
     if (sign < 0) t3 = -1.0 * t3;
     for (int step = 0; total_ < o_.maxPoints; ++step, ++total_) {
-      const double h = size(f.x), len = 0.25 * h;
+      const double h = C_.size(f.x), len = 0.25 * h;
       // predict along the crest, then back onto its ridge across it
       Vec2 q = s + len * normalizedUV(f, t3);
       if (!C_.inDomain(q)) return;
@@ -206,7 +197,7 @@ class Tracer {
     for (const Seed& sd : seeds) {
       if (total_ >= o_.maxPoints) break;
       const Vec3 x = C_.surf.eval(C_.toParam(sd.s));
-      const double h = size(x);
+      const double h = C_.size(x);
       if (!clear(x, o_.clearance * h)) continue;  // on a line traced already
       cur_.assign(1, {x, 0.0});
       std::vector<Vec2> fwdUV{sd.s}, bwdUV;
@@ -224,7 +215,7 @@ class Tracer {
       for (size_t i = 1; i < xyz.size(); ++i) arc[i] = arc[i - 1] + dist(xyz[i - 1], xyz[i]);
       const double total = arc.back();
       double hMean = 0;
-      for (const Vec3& p : xyz) hMean += size(p);
+      for (const Vec3& p : xyz) hMean += C_.size(p);
       hMean /= (double)xyz.size();
       const int n = (int)std::lround(total / hMean);
       if (n < 1) continue;  // shorter than the size: a point the flips can line up with

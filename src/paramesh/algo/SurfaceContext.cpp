@@ -43,8 +43,7 @@ void SurfaceContext::fill(TriVertex& v) const {
     Vec3 nn;
     v.normal = surf.normal(q, nn) ? nn : Vec3{0, 0, 0};
   }
-  v.h = field.size(v.xyz);
-  if (overlay) v.h = std::min(v.h, overlay->size(v.xyz));
+  v.h = size(v.xyz);
   const double ih2 = 1.0 / (v.h * v.h);
   du = du * (1.0 / su);
   dv = dv * (1.0 / sv);

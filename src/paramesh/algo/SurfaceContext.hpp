@@ -32,6 +32,8 @@ class SurfaceContext {
   Vec2 toParam(Vec2 s) const { return {s.x / su, s.y / sv}; }
   Vec2 toScaled(Vec2 p) const { return {p.x * su, p.y * sv}; }
 
+  /// The size at x: the field's, or the overlay's where that is smaller.
+  double size(Vec3 x) const { return overlay ? std::min(field.size(x), overlay->size(x)) : field.size(x); }
   /// Fills normal, h and metric of v from its uv (and xyz, which must be set).
   void fill(TriVertex& v) const;
   /// A new interior vertex at scaled parameter s (evaluates xyz).
