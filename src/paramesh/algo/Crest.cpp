@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "paramesh/algo/Predicates.hpp"
@@ -18,6 +19,7 @@ namespace {
 struct Frame {
   Vec3 x, ju, jv, n;
   Vec2 along{0, 0};
+  double k = 0;  ///< the largest principal curvature, in magnitude
   bool ok = false;
 };
 
@@ -43,6 +45,7 @@ Frame frameAt(const SurfaceContext& C, Vec2 s) {
   const double kBig = std::fabs(k1) >= std::fabs(k2) ? k1 : k2, kSmall = kBig == k1 ? k2 : k1;
   const Vec2 r1{M - kSmall * F, -(L - kSmall * E)}, r2{N - kSmall * G, -(M - kSmall * F)};
   f.along = dot(r1, r1) >= dot(r2, r2) ? r1 : r2;
+  f.k = std::fabs(kBig);
   f.ok = std::isfinite(kBig) && dot(f.along, f.along) > 0;
   return f;
 }
@@ -249,42 +252,242 @@ std::vector<std::vector<Vec2>> traceCrests(const Triangulation& T, const Surface
   return tr.run();
 }
 
-int embedCrests(Triangulation& T, const SurfaceContext& C, const std::vector<std::vector<Vec2>>& crests) {
+namespace {
+
+/// Inserts the polyline (scaled uv) into T as vertices with `flags` (crest vertices get no
+/// normal) joined by constrained edges; ids receives the vertices inserted. Returns the segments.
+/// The walk stops at constrained edges (the boundary's, the crests'): it starts from the
+/// previous vertex of the line, else from every triangle.
+int embedLine(Triangulation& T, const SurfaceContext& C, const std::vector<Vec2>& line, uint8_t flags,
+              std::vector<int>& ids) {
   int segments = 0;
   const Triangulation::FlipTest delaunay = [&T](int t, int i) { return T.delaunayFlip(t, i); };
+  int prev = -1;
+  for (const Vec2& s : line) {
+    int e = -1;
+    int t = prev >= 0 ? T.locate(s, T.verts[prev].tri, &e) : -1;
+    for (int k = 0; t < 0 && k < (int)T.tris.size(); ++k) {
+      const Triangle& tr = T.tris[k];
+      if (tr.dead) continue;
+      int zero = -1, neg = 0;
+      for (int i = 0; i < 3; ++i) {
+        const int o = orient2d(T.verts[tr.v[(i + 1) % 3]].uv, T.verts[tr.v[(i + 2) % 3]].uv, s);
+        if (o < 0) neg = 1;
+        if (o == 0) zero = i;
+      }
+      if (!neg) {
+        t = k;
+        e = zero;
+      }
+    }
+    if (t < 0 || (e >= 0 && T.isConstrained(t, e)) || !T.insertionIsValid(s, t, e)) break;
+    TriVertex v = C.makeVertex(s);
+    if (flags & VF_CREST) v.normal = Vec3{0, 0, 0};
+    v.flags |= flags;
+    const int id = T.addVertex(v);
+    T.insert(id, t, e, delaunay, nullptr);
+    if (prev >= 0) {
+      std::string why;
+      if (!T.insertSegment(prev, id, why)) break;
+      ++segments;
+    }
+    ids.push_back(id);
+    prev = id;
+  }
+  return segments;
+}
+
+}  // namespace
+
+int embedCrests(Triangulation& T, const SurfaceContext& C, const std::vector<std::vector<Vec2>>& crests,
+                std::vector<std::vector<int>>* embedded) {
+  int segments = 0;
   for (const std::vector<Vec2>& line : crests) {
-    int prev = -1;
-    for (const Vec2& s : line) {
-      // the walk stops at constrained edges (the boundary's, the crests'): from the previous
-      // crest vertex, else over every triangle
-      int e = -1;
-      int t = prev >= 0 ? T.locate(s, T.verts[prev].tri, &e) : -1;
-      for (int k = 0; t < 0 && k < (int)T.tris.size(); ++k) {
-        const Triangle& tr = T.tris[k];
-        if (tr.dead) continue;
-        int zero = -1, neg = 0;
+    std::vector<int> ids;
+    segments += embedLine(T, C, line, VF_CREST, ids);
+    if (embedded && ids.size() >= 2) embedded->push_back(std::move(ids));
+  }
+  return segments;
+}
+
+int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<std::vector<int>>& crests,
+                   const CrestOptions& o) {
+  // the face's boundary, which no row point may come near
+  std::vector<std::pair<Vec3, Vec3>> bnd;
+  for (int t = 0; t < (int)T.tris.size(); ++t) {
+    const Triangle& tr = T.tris[t];
+    if (tr.dead) continue;
+    for (int i = 0; i < 3; ++i) {
+      const TriVertex &a = T.verts[tr.v[(i + 1) % 3]], &b = T.verts[tr.v[(i + 2) % 3]];
+      if (T.isConstrained(t, i) && !((a.flags | b.flags) & VF_CREST)) bnd.push_back({a.xyz, b.xyz});
+    }
+  }
+  auto nearBoundary = [&](Vec3 x, double r) {
+    for (const auto& s : bnd)
+      if (segmentDistance(x, s.first, s.second) < r) return true;
+    return false;
+  };
+  // A walk across the crest from one of its vertices, on the surface: samples in steps a small
+  // share of the local radius, with their arc length from the crest.
+  struct Walk {
+    std::vector<Vec2> s;
+    std::vector<Vec3> x;
+    std::vector<double> arc;
+    double spacing = 0;
+    bool active = true;
+  };
+  // the point at arc length a (interpolated in (u,v) between samples; the caller evaluates it)
+  auto pointAt = [](const Walk& w, double a, Vec2& s, Vec3& x) {
+    if (w.arc.empty() || a > w.arc.back()) return false;
+    const size_t i = std::upper_bound(w.arc.begin(), w.arc.end(), a) - w.arc.begin();
+    if (i == 0) {
+      s = w.s[0], x = w.x[0];
+      return true;
+    }
+    if (i >= w.arc.size()) {
+      s = w.s.back(), x = w.x.back();
+      return true;
+    }
+    const double f = (a - w.arc[i - 1]) / std::max(w.arc[i] - w.arc[i - 1], 1e-300);
+    s = w.s[i - 1] + f * (w.s[i] - w.s[i - 1]);
+    x = w.x[i - 1] + f * (w.x[i] - w.x[i - 1]);
+    return true;
+  };
+  // how far the samples strictly between arc a0 and sample i sag from the chord
+  auto sagTo = [&](const Walk& w, double a0, size_t i) {
+    Vec2 s0;
+    Vec3 x0;
+    pointAt(w, a0, s0, x0);
+    double m = 0;
+    for (size_t k = 0; k < i; ++k)
+      if (w.arc[k] > a0) m = std::max(m, segmentDistance(w.x[k], x0, w.x[i]));
+    return m;
+  };
+  std::vector<std::vector<Vec2>> rows;
+  for (const std::vector<int>& line : crests) {
+    const int n = (int)line.size();
+    for (int side = 0; side < 2; ++side) {
+      std::vector<Walk> walks(n);
+      for (int j = 0; j < n; ++j) {
+        Walk& w = walks[j];
+        const TriVertex& V = T.verts[line[j]];
+        const Vec3 tangent = normalized(T.verts[line[std::min(j + 1, n - 1)]].xyz - T.verts[line[std::max(j - 1, 0)]].xyz);
+        int m = 0;
+        if (j > 0) w.spacing += dist(V.xyz, T.verts[line[j - 1]].xyz), ++m;
+        if (j + 1 < n) w.spacing += dist(V.xyz, T.verts[line[j + 1]].xyz), ++m;
+        w.spacing /= std::max(m, 1);
+        Vec2 s = V.uv;
+        Frame f = frameAt(C, s);
+        if (!f.ok) continue;
+        w.s.push_back(s), w.x.push_back(f.x), w.arc.push_back(0);
+        for (int step = 0; step < 2100 && w.arc.back() <= 2 * w.spacing; ++step) {
+          Vec3 across = normalized(cross(f.n, tangent));
+          if (side) across = -1.0 * across;
+          const double len = std::clamp(0.05 / std::max(f.k, 1e-300), w.spacing / 1000, w.spacing / 32);
+          const Vec2 q = s + len * Tracer::normalizedUV(f, across);
+          if (!C.inDomain(q)) break;
+          const Frame fq = frameAt(C, q);
+          if (!fq.ok) break;
+          w.s.push_back(q), w.x.push_back(fq.x), w.arc.push_back(w.arc.back() + dist(fq.x, f.x));
+          s = q;
+          f = fq;
+        }
+      }
+      // One sequence of row distances (arc lengths across) for the whole line, so that the rows
+      // run parallel to the crest as a boundary layer's do, each cell between two rows a quad of
+      // one width. From each distance, a station still needs rows unless a chord of the spacing
+      // from there sags less than the isotropic mesh's triangles may; the next distance is the
+      // nearest any such station's flank allows (its chord sagging no more than a row may),
+      // grown by at most CrestOptions::rowGrowth over the last row's width.
+      std::vector<std::vector<std::pair<bool, Vec2>>> ranks;
+      double d = 0, width = 0;
+      for (int rank = 0; rank < o.maxRows; ++rank) {
+        double next = std::numeric_limits<double>::infinity();
+        for (Walk& w : walks) {
+          if (!w.active || w.arc.empty()) {
+            w.active = false;
+            continue;
+          }
+          // the first sample a spacing away from the point at d
+          Vec2 s0;
+          Vec3 x0;
+          if (!pointAt(w, d, s0, x0)) {
+            w.active = false;
+            continue;
+          }
+          size_t end = 0;
+          while (end < w.arc.size() && (w.arc[end] <= d || dist(w.x[end], x0) < w.spacing)) ++end;
+          if (end >= w.arc.size() || sagTo(w, d, end) <= o.rowStopSag * w.spacing) {
+            w.active = false;  // resolved from here (or the walk ended: the boundary is near)
+            continue;
+          }
+          // the farthest sample before `end` whose chord sags no more than a row may (the sag
+          // grows with the chord: bisection; at `end` it exceeds the stop's, a row's bound)
+          size_t lo = 0;
+          while (lo + 1 < end && w.arc[lo + 1] <= d) ++lo;
+          if (w.arc[lo] <= d) ++lo;  // the first sample past d: nothing between them sags
+          size_t hi = end;
+          while (hi - lo > 1) {
+            const size_t mid = (lo + hi) / 2;
+            (sagTo(w, d, mid) <= o.rowSag * w.spacing ? lo : hi) = mid;
+          }
+          next = std::min(next, w.arc[lo]);
+        }
+        if (!std::isfinite(next)) break;
+        if (width > 0) next = std::min(next, d + o.rowGrowth * width);
+        width = next - d;
+        d = next;
+
+        ranks.emplace_back(n, std::pair<bool, Vec2>{false, Vec2{0, 0}});
+        for (int j = 0; j < n; ++j) {
+          Walk& w = walks[j];
+          Vec2 s;
+          Vec3 x;
+          if (!w.active || !pointAt(w, d, s, x) || nearBoundary(x, 0.25 * w.spacing)) {
+            w.active = false;
+            continue;
+          }
+          ranks.back()[j] = {true, s};
+        }
+      }
+      // the row points of one rank at consecutive crest vertices form a polyline
+      for (const auto& rank : ranks) {
+        std::vector<Vec2> cur;
+        for (int j = 0; j <= n; ++j) {
+          if (j < n && rank[j].first) {
+            cur.push_back(rank[j].second);
+            continue;
+          }
+          if (cur.size() >= 2) rows.push_back(cur);
+          cur.clear();
+        }
+      }
+    }
+  }
+  int segments = 0;
+  for (const std::vector<Vec2>& r : rows) {
+    std::vector<int> ids;
+    segments += embedLine(T, C, r, VF_ROW, ids);
+  }
+  // Between two rows nothing else will be inserted, so their diagonals are final here. Inserted
+  // Delaunay in (u,v), they join points many crest spacings apart where the parametrisation
+  // shears (on the blade tips a row lies 0.9 (u,v) units from the next one at 55 degrees to
+  // the crest, whose spacing is 0.027: the (u,v)-nearest point across is 18 spacings along, and
+  // the strip became fans of caps). Flipped to Delaunay in the surface's metric, they join the
+  // points across from each other.
+  if (segments > 0) {
+    auto fixed = [&T](int v) { return (T.verts[v].flags & (VF_ROW | VF_CREST)) != 0; };
+    for (int pass = 0; pass < 100; ++pass) {
+      int flips = 0;
+      for (int t = 0; t < (int)T.tris.size(); ++t) {
         for (int i = 0; i < 3; ++i) {
-          const int o = orient2d(T.verts[tr.v[(i + 1) % 3]].uv, T.verts[tr.v[(i + 2) % 3]].uv, s);
-          if (o < 0) neg = 1;
-          if (o == 0) zero = i;
-        }
-        if (!neg) {
-          t = k;
-          e = zero;
+          const Triangle& tr = T.tris[t];
+          if (tr.dead || tr.n[i] < 0 || T.isConstrained(t, i)) continue;
+          if (!fixed(tr.v[(i + 1) % 3]) || !fixed(tr.v[(i + 2) % 3])) continue;
+          if (T.metricFlip(t, i) && T.flip(t, i)) ++flips;
         }
       }
-      if (t < 0 || (e >= 0 && T.isConstrained(t, e)) || !T.insertionIsValid(s, t, e)) break;
-      TriVertex v = C.makeVertex(s);
-      v.normal = Vec3{0, 0, 0};
-      v.flags |= VF_CREST;
-      const int id = T.addVertex(v);
-      T.insert(id, t, e, delaunay, nullptr);
-      if (prev >= 0) {
-        std::string why;
-        if (!T.insertSegment(prev, id, why)) break;
-        ++segments;
-      }
-      prev = id;
+      if (flips == 0) break;
     }
   }
   return segments;

@@ -432,7 +432,9 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
         // the first mesh is discarded: its points do not count against the point budget
         if (progress) progress->refund(fr.insertedPoints);
         T = std::move(start);
-        res.crestSegments = embedCrests(T, C, lines);
+        std::vector<std::vector<int>> embedded;
+        res.crestSegments = embedCrests(T, C, lines, &embedded);
+        if (opt.crestRows) res.crestRowSegments = embedCrestRows(T, C, embedded);
         Frontal again(T, C, opt, progress);
         again.run();
         res.rejectedPoints = again.rejected;

@@ -43,6 +43,7 @@ struct FaceMeshOptions {
   double maxDeviationRatio = 0; ///< max centroid distance from the surface / the triangle's mean edge; 0: off
   double minSplitLength = 0;    ///< deviation refinement splits no edge shorter than this
   bool embedCrests = true;      ///< with maxDeviationRatio: embed the crests of folds narrower than the mesh (Crest.hpp)
+  bool crestRows = true;        ///< and grow rows beside them across the fold's shoulders (embedCrestRows)
   /// The user's min-size / curvature angle (0: none): where the surface turns faster than that
   /// radius, the relative deviation bound grows to what triangles at the min-size can meet
   /// (Optimizer::setMinSizeReach)
@@ -85,6 +86,7 @@ struct FaceMeshResult {
   std::vector<DeviationMiss> deviationMisses;
   int rejectedPoints = 0;
   int crestSegments = 0;  ///< constrained edges embedded along fold crests (Crest.hpp)
+  int crestRowSegments = 0;  ///< constrained edges of the rows beside them (embedCrestRows)
   int degenerateDropped = 0;
 };
 

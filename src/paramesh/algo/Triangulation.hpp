@@ -30,9 +30,10 @@ enum : uint8_t {
   VF_SUPER = 4,     ///< auxiliary bounding vertex of the initial triangulation
   VF_DEAD = 8,      ///< removed by a collapse
   VF_CREST = 16,    ///< on the crest of a fold narrower than the mesh: no normal (zero), never moved
+  VF_ROW = 32,      ///< on a row beside a crest (Crest.hpp): never moved
 };
 /// Vertices the optimiser never moves or collapses away.
-constexpr uint8_t VF_FIXED = VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD | VF_CREST;
+constexpr uint8_t VF_FIXED = VF_BOUNDARY | VF_POLE | VF_SUPER | VF_DEAD | VF_CREST | VF_ROW;
 
 struct TriVertex {
   Vec2 uv;          ///< scaled (u,v)

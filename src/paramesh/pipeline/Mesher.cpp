@@ -1720,6 +1720,7 @@ struct Mesher::Impl {
       fr.nodes = (int)r.newXyz.size();
       fr.overDeviation = (int)r.deviationMisses.size();
       fr.crestSegments = r.crestSegments;
+      fr.crestRowSegments = r.crestRowSegments;
       fr.overDeviationWorst = 0;
       fr.overDeviationRadius = std::numeric_limits<double>::infinity();
       fr.overDeviationResolvable = 0;

@@ -33,6 +33,8 @@ struct FaceReport {
   int overDeviationResolvable = 0;
   /// edges embedded along the crests of folds narrower than the mesh (--curvature-angle; Crest.hpp)
   int crestSegments = 0;
+  /// edges of the rows grown beside those crests (embedCrestRows)
+  int crestRowSegments = 0;
 };
 
 /// Quality summary of the surface elements (triangles; quads reported separately).

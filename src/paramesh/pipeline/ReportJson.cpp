@@ -84,6 +84,7 @@ Json reportToJson(const Report& r) {
     fj["interior_nodes"] = f.nodes;
     fj["seconds"] = f.seconds;
     if (f.crestSegments > 0) fj["crest_segments"] = f.crestSegments;
+    if (f.crestRowSegments > 0) fj["crest_row_segments"] = f.crestRowSegments;
     if (f.overDeviation > 0) {
       Json& od = fj["over_deviation_bound"];
       od["triangles"] = f.overDeviation;
