@@ -5,7 +5,8 @@
 /// triangle may straddle the fold, and refining isotropically would need edges down to the fold's
 /// radius times the curvature angle. The crest is traced on the surface (the ridge of its largest
 /// principal curvature) and embedded in the face's triangulation as constrained edges between
-/// crest vertices, so the triangles on each flank lie flat on it.
+/// crest vertices, so the triangles on each flank lie flat on it. Where the flanks keep turning
+/// beside the crest, rows parallel to it (graded like a boundary layer's) line its shoulders.
 #pragma once
 #include <vector>
 
