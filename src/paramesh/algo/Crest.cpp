@@ -60,16 +60,31 @@ Vec2 toUV(const Frame& f, Vec3 w) {
 
 Vec3 image(const Frame& f, Vec2 d) { return d.x * f.ju + d.y * f.jv; }
 
-class Tracer {
- public:
-  Tracer(const Triangulation& T, const SurfaceContext& C, const CrestOptions& o) : T_(T), C_(C), o_(o) {
-    for (int t = 0; t < (int)T.tris.size(); ++t) {
-      const Triangle& tr = T.tris[t];
-      if (tr.dead) continue;
-      for (int i = 0; i < 3; ++i)
-        if (T.isConstrained(t, i)) bnd_.push_back({T.verts[tr.v[(i + 1) % 3]].xyz, T.verts[tr.v[(i + 2) % 3]].xyz});
+/// The face's boundary in T: its constrained edges that are not on a crest (3D segments).
+std::vector<std::pair<Vec3, Vec3>> boundarySegments(const Triangulation& T) {
+  std::vector<std::pair<Vec3, Vec3>> out;
+  for (int t = 0; t < (int)T.tris.size(); ++t) {
+    const Triangle& tr = T.tris[t];
+    if (tr.dead) continue;
+    for (int i = 0; i < 3; ++i) {
+      const TriVertex &a = T.verts[tr.v[(i + 1) % 3]], &b = T.verts[tr.v[(i + 2) % 3]];
+      if (T.isConstrained(t, i) && !((a.flags | b.flags) & VF_CREST)) out.push_back({a.xyz, b.xyz});
     }
   }
+  return out;
+}
+
+/// True when a segment of segs passes within r of x.
+bool nearAny(const std::vector<std::pair<Vec3, Vec3>>& segs, Vec3 x, double r) {
+  for (const auto& s : segs)
+    if (segmentDistance(x, s.first, s.second) < r) return true;
+  return false;
+}
+
+class Tracer {
+ public:
+  Tracer(const Triangulation& T, const SurfaceContext& C, const CrestOptions& o)
+      : T_(T), C_(C), o_(o), bnd_(boundarySegments(T)) {}
 
   /// Crest point on the scaled (u,v) segment [a, b]: the largest curvature (samples, then golden
   /// section). False when it is not a crease at the mesh's scale.
@@ -119,8 +134,7 @@ class Tracer {
   /// No boundary segment, no crest point of another line, and no point of the line being traced
   /// that lies farther than `near` from arc position `arc` along it, within r of x.
   bool clear(Vec3 x, double r, double arc = 0, double near = -1) const {
-    for (const auto& s : bnd_)
-      if (segmentDistance(x, s.first, s.second) < r) return false;
+    if (nearAny(bnd_, x, r)) return false;
     for (const auto& P : pts_)
       for (const Vec3& p : P)
         if (dist(x, p) < r) return false;
@@ -313,20 +327,7 @@ int embedCrests(Triangulation& T, const SurfaceContext& C, const std::vector<std
 int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<std::vector<int>>& crests,
                    const CrestOptions& o) {
   // the face's boundary, which no row point may come near
-  std::vector<std::pair<Vec3, Vec3>> bnd;
-  for (int t = 0; t < (int)T.tris.size(); ++t) {
-    const Triangle& tr = T.tris[t];
-    if (tr.dead) continue;
-    for (int i = 0; i < 3; ++i) {
-      const TriVertex &a = T.verts[tr.v[(i + 1) % 3]], &b = T.verts[tr.v[(i + 2) % 3]];
-      if (T.isConstrained(t, i) && !((a.flags | b.flags) & VF_CREST)) bnd.push_back({a.xyz, b.xyz});
-    }
-  }
-  auto nearBoundary = [&](Vec3 x, double r) {
-    for (const auto& s : bnd)
-      if (segmentDistance(x, s.first, s.second) < r) return true;
-    return false;
-  };
+  const std::vector<std::pair<Vec3, Vec3>> bnd = boundarySegments(T);
   // A walk across the crest from one of its vertices, on the surface: samples in steps a small
   // share of the local radius, with their arc length from the crest.
   struct Walk {
@@ -353,11 +354,8 @@ int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<
     x = w.x[i - 1] + f * (w.x[i] - w.x[i - 1]);
     return true;
   };
-  // how far the samples strictly between arc a0 and sample i sag from the chord
-  auto sagTo = [&](const Walk& w, double a0, size_t i) {
-    Vec2 s0;
-    Vec3 x0;
-    pointAt(w, a0, s0, x0);
+  // how far the samples strictly between arc a0 (the point x0) and sample i sag from the chord
+  auto sagTo = [](const Walk& w, double a0, Vec3 x0, size_t i) {
     double m = 0;
     for (size_t k = 0; k < i; ++k)
       if (w.arc[k] > a0) m = std::max(m, segmentDistance(w.x[k], x0, w.x[i]));
@@ -417,7 +415,7 @@ int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<
           }
           size_t end = 0;
           while (end < w.arc.size() && (w.arc[end] <= d || dist(w.x[end], x0) < w.spacing)) ++end;
-          if (end >= w.arc.size() || sagTo(w, d, end) <= o.rowStopSag * w.spacing) {
+          if (end >= w.arc.size() || sagTo(w, d, x0, end) <= o.rowStopSag * w.spacing) {
             w.active = false;  // resolved from here (or the walk ended: the boundary is near)
             continue;
           }
@@ -429,7 +427,7 @@ int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<
           size_t hi = end;
           while (hi - lo > 1) {
             const size_t mid = (lo + hi) / 2;
-            (sagTo(w, d, mid) <= o.rowSag * w.spacing ? lo : hi) = mid;
+            (sagTo(w, d, x0, mid) <= o.rowSag * w.spacing ? lo : hi) = mid;
           }
           next = std::min(next, w.arc[lo]);
         }
@@ -443,7 +441,7 @@ int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<
           Walk& w = walks[j];
           Vec2 s;
           Vec3 x;
-          if (!w.active || !pointAt(w, d, s, x) || nearBoundary(x, 0.25 * w.spacing)) {
+          if (!w.active || !pointAt(w, d, s, x) || nearAny(bnd, x, 0.25 * w.spacing)) {
             w.active = false;
             continue;
           }
