@@ -33,6 +33,9 @@ struct FaceBoundary {
   /// The true trimmed boundary in (u,v): the pcurves sampled finely (closed loops). New interior
   /// nodes must lie inside it. Empty: no guard (the boundary chords are exact, e.g. polygons).
   std::vector<std::vector<Vec2>> trueLoops;
+  /// The edges (0-based) whose pcurve strays from the edge's nodes (more than 1e-3 of the size),
+  /// each with the largest distance (3D) between the pcurve's image and a node.
+  std::vector<std::pair<int, double>> strayPcurves;
 };
 
 struct FaceMeshOptions {

@@ -54,9 +54,10 @@ constexpr double kRowHeight = 0.8660254037844386;
 // short one, growing by kCornerSlope per unit length from the corner
 constexpr double kCornerRatio = 1.3;
 constexpr double kCornerSlope = 0.5;
-// a pcurve whose image lies farther than this share of the size from its edge's nodes: the face's
-// trim follows the edge's projected 3D curve instead (buildBoundary)
-constexpr double kTrimOff = 1e-3;
+// a pcurve whose image lies farther than this share of the size from its edge's nodes strays from
+// its edge: the run says so (logStrayPcurves), and why triangles there may stay beyond a deviation
+// bound
+constexpr double kPcurveStray = 1e-3;
 constexpr double kCornerMinRatio = 0.35;  // of the size: shorter neighbour segments are left alone
 // the nearest-face check meshes again at most this many times
 constexpr int kNearestFaceRounds = 6;
@@ -175,6 +176,8 @@ struct Mesher::Impl {
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
+  std::vector<std::vector<std::pair<int, double>>> strayPcurves_;  ///< per face: FaceBoundary::strayPcurves
+  bool trimsLogged_ = false;
   std::vector<std::string> edgeError_;         ///< per edge: why it could not be discretised ("" if it was)
   /// The last discretisation's edge parameters (before createEdgeNodes): a nearest-face round
   /// that leaves the size field as it was (local deviation bounds only) reuses them
@@ -1158,7 +1161,8 @@ struct Mesher::Impl {
         auto pc = model.makePCurve(f, (int)w, (int)k);
         std::vector<BoundaryVertex> pts;
         std::vector<double> pts_t;
-        double pcOff = 0;  // the farthest the pcurve's image lies from this use's nodes (3D)
+        double pcOff = 0;     // the farthest the pcurve's image lies from this use's nodes / size
+        double pcOffAbs = 0;  // the same in 3D
         if (em.degenerate) {
           if (!pc) {
             why = "degenerate Edge" + std::to_string(use.edge + 1) + " has no curve on the face";
@@ -1195,14 +1199,18 @@ struct Mesher::Impl {
             // make the (u,v) consistent with the shared 3D node (tolerant CAD, non-same-parameter)
             Vec3 sp = s.eval(uv);
             const double tol = 1e-7 * (1 + norm(bv.xyz)) + 1e-3 * field.size(bv.xyz) * 1e-2;
-            if (pc) pcOff = std::max(pcOff, dist(sp, bv.xyz) / field.size(bv.xyz));
+            if (pc) {
+              pcOff = std::max(pcOff, dist(sp, bv.xyz) / field.size(bv.xyz));
+              pcOffAbs = std::max(pcOffAbs, dist(sp, bv.xyz));
+            }
             if (dist(sp, bv.xyz) > tol) {
               Vec2 q = uv;
               Vec3 out;
               // a foot on the node is taken even when Newton's convergence test, relative to a
-              // residual of round-off size, did not pass (boxed_sphere Face16's Edge nodes 10, 18,
+              // residual of round-off size, did not pass (boxed_sphere Face16's edge nodes 10, 18,
               // 22 and 29 of 42: 1e-14 from the surface, yet not converged; kept at the pcurve's
-              // (u,v), 0.039 away, they left split points 0.02 off the chords)
+              // (u,v), 0.039 away, they put the (u,v) midpoints of their edges 0.02 off the chords
+              // and every split there was refused)
               const bool onFoot = s.project(bv.xyz, q, &out, 0.02) || dist(out, bv.xyz) <= tol;
               if (onFoot && dist(out, bv.xyz) <= dist(sp, bv.xyz)) uv = q;
             }
@@ -1221,16 +1229,15 @@ struct Mesher::Impl {
         // the true boundary between consecutive nodes (curved in (u,v) where the trim is). Where
         // the pcurve strays from the edge's 3D curve (a tolerant edge: boxed_sphere's corner
         // patches have pcurves 0.055 inside their circles, radius 0.29), the nodes took the
-        // projections of their 3D points, and the trim follows the projected 3D curve: the
-        // pcurve's would fence the interior nodes off a strip along the edge
-        std::unique_ptr<ICurve> c3;
-        if (pc && !em.degenerate && pcOff > kTrimOff) c3 = model.makeCurve(use.edge);
+        // projections of their 3D points, but the trim stays the pcurve's: that is the face
+        // OpenCASCADE's classifier knows, and FreeCAD's FEM node lookup by face
+        // (FemMesh::getNodesByFace, BRepExtrema within the face's tolerance) misses nodes put in
+        // the strip between (stop 32 tried the projected 3D edges as the trim: the corners met
+        // --max-deviation 0.001, but getNodesByFace missed 136 of a corner's 522 nodes)
+        if (pc && !em.degenerate && pcOff > kPcurveStray) fb.strayPcurves.push_back({use.edge, pcOffAbs});
         for (size_t i = 0; i < pts.size(); ++i) {
           if (i == 0 && !fine.empty()) continue;
-          if (i > 0 && c3)
-            projectTrim(s, *c3, pts_t[i - 1], pts_t[i], pts[i - 1].uv, pts[i].uv, up, vp,
-                        1e-5 * field.size(pts[i].xyz), fine, 0);
-          else if (i > 0 && pc && !em.degenerate)
+          if (i > 0 && pc && !em.degenerate)
             refineTrim(s, *pc, pts_t[i - 1], pts_t[i], pts[i - 1].uv, pts[i].uv, sh,
                        1e-5 * field.size(pts[i].xyz), fine, 0);
           fine.push_back(pts[i].uv);
@@ -1309,26 +1316,6 @@ struct Mesher::Impl {
     refineTrim(s, pc, ta, tm, ua, um, shift, eps, out, depth + 1);
     out.push_back(um);
     refineTrim(s, pc, tm, tb, um, ub, shift, eps, out, depth + 1);
-  }
-
-  /// Like refineTrim, but the samples are the edge's 3D curve projected on the surface (seeded at
-  /// the (u,v) chord's midpoint); a projection that fails or lands farther than the chord is long
-  /// from its midpoint ends the subdivision there.
-  static void projectTrim(const ISurface& s, const ICurve& c, double ta, double tb, Vec2 ua, Vec2 ub, double up,
-                          double vp, double eps, std::vector<Vec2>& out, int depth) {
-    if (depth >= 8) return;
-    const double tm = 0.5 * (ta + tb);
-    const Vec2 chordMid = 0.5 * (ua + ub);
-    Vec2 um = chordMid;
-    const Vec3 x = c.eval(tm);
-    Vec3 foot;
-    if (!s.project(x, um, &foot, 0.02) && !(dist(foot, x) <= eps)) return;
-    um = unwrapNear(um, chordMid, up, vp);
-    if (!(norm(um - chordMid) <= norm(ub - ua))) return;
-    if (dist(s.eval(um), s.eval(chordMid)) <= eps) return;
-    projectTrim(s, c, ta, tm, ua, um, up, vp, eps, out, depth + 1);
-    out.push_back(um);
-    projectTrim(s, c, tm, tb, um, ub, up, vp, eps, out, depth + 1);
   }
 
   /// Number of (u,v) segments for a degenerate edge a->b: about the length of the first ring of
@@ -1625,9 +1612,37 @@ struct Mesher::Impl {
     return -1;
   }
 
+  /// Once per run: the faces whose pcurves stray from their 3D edges (tolerant CAD); the worst
+  /// named.
+  void logStrayPcurves() {
+    if (trimsLogged_) return;
+    trimsLogged_ = true;
+    int faces = 0, uses = 0, worstFace = -1, worstEdge = -1;
+    double worst = 0;
+    for (int f = 0; f < (int)strayPcurves_.size(); ++f) {
+      if (strayPcurves_[f].empty()) continue;
+      ++faces;
+      for (const auto& t : strayPcurves_[f]) {
+        ++uses;
+        if (t.second > worst) {
+          worst = t.second;
+          worstFace = f;
+          worstEdge = t.first;
+        }
+      }
+    }
+    if (!faces) return;
+    log.info("pcurves off their 3D edges: " + std::to_string(uses) + " edge use" + (uses == 1 ? "" : "s") + " on " +
+             std::to_string(faces) + " face" + (faces == 1 ? "" : "s") +
+             " (worst: Edge" + std::to_string(worstEdge + 1) +
+             " on Face" + std::to_string(worstFace + 1) + ", " + fmt(worst) + " off, edge tolerance " +
+             fmt(model.edgeTolerance(worstEdge)) + ")");
+  }
+
   void meshFaces() {
     Timer tm;
     const int nf = model.numFaces();
+    strayPcurves_.assign(nf, {});
     std::vector<FaceMeshResult> results(nf);
     report.faces.assign(nf, FaceReport());
     std::atomic<int> done{0};
@@ -1677,10 +1692,12 @@ struct Mesher::Impl {
           fr.ok = false;
           fr.error = why;
         } else if (hasBoundaryLayer(f)) {
+          strayPcurves_[f] = fb.strayPcurves;
           results[f] = meshFaceWithLayers(f, *s, fb, fo);
           fr.ok = results[f].ok;
           fr.error = results[f].error;
         } else {
+          strayPcurves_[f] = fb.strayPcurves;
           FaceMeshOptions zo;  // with the nearest-face check's zones on this face
           const bool zoned = f < (int)zones_.size() && !zones_[f].empty();
           if (zoned) {
@@ -1706,6 +1723,7 @@ struct Mesher::Impl {
       progress.report(0.15 + 0.8 * k / std::max(nf, 1), "faces");
     }, &order);
     stage("faces", tm.seconds());
+    logStrayPcurves();
     // assemble in face order (deterministic)
     Timer ta;
     for (int f = 0; f < nf; ++f) {
@@ -2099,13 +2117,30 @@ struct Mesher::Impl {
     };
     std::string w = std::to_string(total) + " triangle" + (total == 1 ? "" : "s") + " on " + std::to_string(over.size()) +
                     " face" + (over.size() == 1 ? "" : "s") + " beyond the deviation bound after refinement: ";
+    // the stray pcurves of a face (largest offset), which bound what its triangles can meet
+    auto stray = [&](int face) {
+      double off = 0;
+      if (face - 1 < (int)strayPcurves_.size())
+        for (const auto& t : strayPcurves_[face - 1]) off = std::max(off, t.second);
+      return off;
+    };
+    bool strays = false;
     for (size_t i = 0; i < over.size() && i < 5; ++i) {
       const FaceReport& fr = *over[i];
       w += (i ? "; Face" : "Face") + std::to_string(fr.face) + " " + std::to_string(fr.overDeviation) + " (worst " +
            num(fr.overDeviationWorst) + "x its bound at (" + num(fr.overDeviationAt[0], 6) + ", " + num(fr.overDeviationAt[1], 6) +
-           ", " + num(fr.overDeviationAt[2], 6) + "), surface radius down to " + num(fr.overDeviationRadius) + ")";
+           ", " + num(fr.overDeviationAt[2], 6) + "), surface radius down to " + num(fr.overDeviationRadius);
+      if (stray(fr.face) > 0) {
+        w += ", pcurves up to " + num(stray(fr.face)) + " off its edges";
+        strays = true;
+      }
+      w += ")";
     }
     if (over.size() > 5) w += "; ...";
+    if (strays)
+      w += ". Where a face's pcurves stray from its edges (tolerant CAD), no node goes between the two (OpenCASCADE's "
+           "face, and FreeCAD's FEM node lookup, end at the pcurves), so triangles spanning that gap cannot meet a "
+           "bound below it";
     const double reach = minSizeReach();
     if (reach > 0 && radius < reach)
       w += ". " + (resolvable == 0 ? "All " + std::to_string(total) : std::to_string(total - resolvable) + " of them") +
