@@ -72,13 +72,21 @@ def check_mesh(path):
     P = np.asarray(m.points, float)
     if not np.isfinite(P).all():
         return 'non-finite coordinates'
-    tris = [c.data for c in m.cells if c.type == 'triangle']
-    if not tris:
+    # corner nodes of the triangles and quads (of either order: mid-edge nodes follow the corners)
+    tris = [c.data[:, :3] for c in m.cells if c.type.startswith('triangle')]
+    quads = [c.data[:, :4] for c in m.cells if c.type.startswith('quad')]
+    if not tris and not quads:
         return ''
-    T = np.concatenate(tris)
-    if (T[:, 0] == T[:, 1]).any() or (T[:, 1] == T[:, 2]).any() or (T[:, 0] == T[:, 2]).any():
-        return 'triangle with a repeated node'
-    e = np.sort(np.concatenate([T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]), axis=1)
+    edges = []
+    if tris:
+        T = np.concatenate(tris)
+        if (T[:, 0] == T[:, 1]).any() or (T[:, 1] == T[:, 2]).any() or (T[:, 0] == T[:, 2]).any():
+            return 'triangle with a repeated node'
+        edges += [T[:, [0, 1]], T[:, [1, 2]], T[:, [2, 0]]]
+    if quads:
+        Q = np.concatenate(quads)
+        edges += [Q[:, [0, 1]], Q[:, [1, 2]], Q[:, [2, 3]], Q[:, [3, 0]]]
+    e = np.sort(np.concatenate(edges), axis=1)
     _, cnt = np.unique(e, axis=0, return_counts=True)
     if cnt.max() > 2:
         return 'non-manifold edge (used %d times)' % cnt.max()

@@ -9,9 +9,10 @@ Each case draws a model and options: --size (diagonal / 15 to / 300), sometimes
 (1.05 to 2.5), --quads, --order 2, --proximity, --threads 1 or 2, and a boundary layer on 1-4
 random edges (first height size / 200 to size / 5, 1 to 12 rows). The run gets a time limit (a
 case whose element estimate is huge is expected to stop at --max-elements, set to 3e6). Every
-outcome must be one of: exit 0 (or 3, some faces failed, each named in the report) with a
-mesh whose triangles and quads use every edge at most twice and whose coordinates are finite,
-or an exit code 1-5 with a one-line reason. A signal, a sanitizer report, a time-out or a
+outcome must be one of: exit 0 (or 3, some faces failed, each named in the report) with a mesh
+that passes fuzz_inputs.py's check (finite coordinates, no triangle with a repeated node, every
+triangle and quad edge used at most twice, no unused node), or an exit code 1-5 with a one-line
+reason. A signal, a sanitizer report, a time-out or a
 reason of several lines is a failure; its command line is kept in DIR/failures.txt.
 Prints JSON: counts per outcome, the refusals (exit 1-5: reason and command) and the failures.
 Exit status 1 when any failed. Run with Debian's /usr/bin/python3 (meshio)."""
@@ -24,7 +25,7 @@ import subprocess
 import sys
 import tempfile
 
-import numpy as np
+from fuzz_inputs import check_mesh  # tests/tools: the same sanity check as the fuzzer's
 
 
 def diag_and_edges(model):
@@ -61,30 +62,6 @@ def draw(rng, model, diag, nedges):
     return args
 
 
-def mesh_ok(path):
-    import meshio
-    m = meshio.read(path)
-    P = np.asarray(m.points, dtype=float)
-    if not np.isfinite(P).all():
-        return "non-finite coordinates"
-    E = []
-    for cb in m.cells:
-        c = cb.data
-        if cb.type.startswith("triangle"):
-            c = c[:, :3]
-            E += [c[:, [0, 1]], c[:, [1, 2]], c[:, [2, 0]]]
-        elif cb.type.startswith("quad"):
-            c = c[:, :4]
-            E += [c[:, [0, 1]], c[:, [1, 2]], c[:, [2, 3]], c[:, [3, 0]]]
-    if not E:
-        return None
-    E = np.sort(np.concatenate(E), axis=1)
-    _, cnt = np.unique(E, axis=0, return_counts=True)
-    if (cnt > 2).any():
-        return "%d non-manifold edges" % int((cnt > 2).sum())
-    return None
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("paramesh")
@@ -119,7 +96,7 @@ def main():
         elif re.search(r"AddressSanitizer|UndefinedBehaviorSanitizer|runtime error:", err):
             why = "sanitizer report"
         elif rc in (0, 3):
-            why = mesh_ok(out) if os.path.exists(out) else "no mesh written"
+            why = check_mesh(out) if os.path.exists(out) else "no mesh written"
         elif len(err.strip().splitlines()) != 1:
             why = "reason of %d lines" % len(err.strip().splitlines())
         key = "failed" if why else ("exit %s" % rc)

@@ -177,7 +177,7 @@ struct Mesher::Impl {
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
   std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
   std::vector<std::vector<std::pair<int, double>>> strayPcurves_;  ///< per face: FaceBoundary::strayPcurves
-  bool trimsLogged_ = false;
+  bool strayLogged_ = false;
   std::vector<std::string> edgeError_;         ///< per edge: why it could not be discretised ("" if it was)
   /// The last discretisation's edge parameters (before createEdgeNodes): a nearest-face round
   /// that leaves the size field as it was (local deviation bounds only) reuses them
@@ -1197,13 +1197,13 @@ struct Mesher::Impl {
               if (pts.empty() && loop.empty()) s.projectGlobal(bv.xyz, uv);
             }
             // make the (u,v) consistent with the shared 3D node (tolerant CAD, non-same-parameter)
-            Vec3 sp = s.eval(uv);
+            const double off = dist(s.eval(uv), bv.xyz);
             const double tol = 1e-7 * (1 + norm(bv.xyz)) + 1e-3 * field.size(bv.xyz) * 1e-2;
             if (pc) {
-              pcOff = std::max(pcOff, dist(sp, bv.xyz) / field.size(bv.xyz));
-              pcOffAbs = std::max(pcOffAbs, dist(sp, bv.xyz));
+              pcOff = std::max(pcOff, off / field.size(bv.xyz));
+              pcOffAbs = std::max(pcOffAbs, off);
             }
-            if (dist(sp, bv.xyz) > tol) {
+            if (off > tol) {
               Vec2 q = uv;
               Vec3 out;
               // a foot on the node is taken even when Newton's convergence test, relative to a
@@ -1212,7 +1212,7 @@ struct Mesher::Impl {
               // (u,v), 0.039 away, they put the (u,v) midpoints of their edges 0.02 off the chords
               // and every split there was refused)
               const bool onFoot = s.project(bv.xyz, q, &out, 0.02) || dist(out, bv.xyz) <= tol;
-              if (onFoot && dist(out, bv.xyz) <= dist(sp, bv.xyz)) uv = q;
+              if (onFoot && dist(out, bv.xyz) <= off) uv = q;
             }
             bv.uv = uv;
             bv.pole = poleNodes.count(bv.node) > 0;
@@ -1615,8 +1615,8 @@ struct Mesher::Impl {
   /// Once per run: the faces whose pcurves stray from their 3D edges (tolerant CAD); the worst
   /// named.
   void logStrayPcurves() {
-    if (trimsLogged_) return;
-    trimsLogged_ = true;
+    if (strayLogged_) return;
+    strayLogged_ = true;
     int faces = 0, uses = 0, worstFace = -1, worstEdge = -1;
     double worst = 0;
     for (int f = 0; f < (int)strayPcurves_.size(); ++f) {
@@ -2130,8 +2130,9 @@ struct Mesher::Impl {
       w += (i ? "; Face" : "Face") + std::to_string(fr.face) + " " + std::to_string(fr.overDeviation) + " (worst " +
            num(fr.overDeviationWorst) + "x its bound at (" + num(fr.overDeviationAt[0], 6) + ", " + num(fr.overDeviationAt[1], 6) +
            ", " + num(fr.overDeviationAt[2], 6) + "), surface radius down to " + num(fr.overDeviationRadius);
-      if (stray(fr.face) > 0) {
-        w += ", pcurves up to " + num(stray(fr.face)) + " off its edges";
+      const double off = stray(fr.face);
+      if (off > 0) {
+        w += ", pcurves up to " + num(off) + " off its edges";
         strays = true;
       }
       w += ")";
