@@ -38,7 +38,7 @@
 
 #include "paramesh/algo/Crest.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
-#include "paramesh/algo/Optimizer.hpp"
+#include "paramesh/algo/optimizer/Optimizer.hpp"
 #include "paramesh/util/Parallel.hpp"
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"

@@ -10,7 +10,7 @@
 #include <unordered_map>
 
 #include "paramesh/algo/Crest.hpp"
-#include "paramesh/algo/Optimizer.hpp"
+#include "paramesh/algo/optimizer/Optimizer.hpp"
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/algo/Recombine.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"

@@ -2,7 +2,7 @@
 /// @file FaceMesher.hpp
 /// Meshes one CAD face: boundary CDT in the scaled (u,v) plane, frontal-Delaunay insertion with
 /// points placed in 3D (tangent-plane prediction, Newton re-projection on the surface), then 3D
-/// optimisation (see Optimizer.hpp). Sizes are straight 3D edge lengths against the size field.
+/// optimisation (see optimizer/Optimizer.hpp). Sizes are straight 3D edge lengths against the size field.
 #pragma once
 #include <array>
 #include <string>

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file Optimizer.hpp
-/// 3D local operators on a face triangulation and the driver loop that applies them. Every
+/// 3D local operators on a face triangulation and the driver loop that applies them (one file an
+/// operator beside this header; their shared predicates in OptimizerDetail.hpp). Every
 /// decision uses straight 3D edge lengths and 3D triangle quality; every operation is checked for
 /// validity in (u,v) (exact orientation) and in 3D (triangle normal against the surface normal).
 /// Boundary and pole vertices never move; constrained edges are never flipped, split or collapsed.
@@ -144,10 +145,27 @@ class Optimizer {
 
  private:
   double edgeRatio(int a, int b) const;
+  /// Edges from v to the vertices of link outside [kBandLo, kBandHi] of the local size.
+  int outOfBand(int v, const std::vector<int>& link) const;
   /// The point of edge (a,b)'s (u,v) segment where the surface runs farthest from the 3D chord,
   /// when it is markedly farther (kRidgePeak) than the chord's projected midpoint, i.e. the edge
   /// crosses a fold narrower than itself, and not near an end (kCrestShare); false otherwise.
   bool ridgePoint(int a, int b, Vec2& at) const;
+  /// refineDeviation's parts. gap_ for every node vertex (see gap()).
+  void measureGaps();
+  /// The free edge of t (tr: its corners) with the largest sag estimated from the vertex normals,
+  /// the longest on a near tie; none from a pole, none shorter than minEdge unless belowFloor.
+  /// -1: none.
+  int sagEdge(int t, const Triangle& tr, double minEdge, bool belowFloor) const;
+  /// The edge of t to split into best (-1: none); true when it is to be split at a fold's crest,
+  /// then at `crest`.
+  bool chooseSplit(int t, const Triangle& tr, double minEdge, int& best, Vec2& crest) const;
+  /// Inserts the projected centroid of t (tr: its corners, best: the edge chooseSplit found) when
+  /// t is not at the smallest size and no new triangle is refused; true when inserted.
+  bool insertCentroid(int t, const Triangle& tr, double minEdge, int best);
+  /// One step of refineDeviation on triangle t when it is still beyond its bound (a flip, a split,
+  /// a collapse or a centroid insertion); true when the mesh changed.
+  bool refineTriangle(int t, double minEdge);
   /// Triangle t, over its deviation bound, has a crest vertex: one of its free vertices, left
   /// next to a fold's crest, collapses onto a neighbour (crest vertices first, then the nearest)
   /// when the triangles it leaves are valid, within their deviation bounds, and none collinear
@@ -157,9 +175,19 @@ class Optimizer {
   /// deviation/bound most, by at least a fifth (kFlipGain), with both new triangles valid (no
   /// crease guard: lining an edge up with a fold folds the pair on purpose). True when flipped.
   bool flipForDeviation(int t);
-  /// Edge i of t is free and shared with triangle u = (d,c,b), t being (a,b,c), and flipping it
-  /// gives two valid triangles (a,b,d), (a,d,c).
+  /// Edge i of t is free and shared with triangle u = (d,c,b), t being (a,b,c) (a the corner
+  /// opposite the edge): the quad a flip of the edge rewrites into (a,b,d), (a,d,c).
+  bool edgeQuad(int t, int i, int& u, int& a, int& b, int& c, int& d) const;
+  /// edgeQuad(), and flipping the edge gives two valid triangles (a,b,d), (a,d,c).
   bool validFlip(int t, int i, int& u, int& a, int& b, int& c, int& d) const;
+  /// Visits the free interior edges of the live triangles in the region, triangle by triangle, as
+  /// visit(t, i, u, a, b, c, d) (edgeQuad's names); when visit returns true (it rewrote t), t's
+  /// edges are visited again from the first. done(t) runs once t's edges are through.
+  template <class Visit, class Done>
+  void sweepFreeEdges(Visit&& visit, Done&& done);
+  /// The worst 3D quality of the pair (a,b,d), (a,d,c) that flipping edge (b,c) of (a,b,c),
+  /// (d,c,b) makes.
+  double flippedQuality(int a, int b, int c, int d) const;
   /// Quality figures of ring_: worst and summed radius ratio, worst sine of the smallest angle.
   struct RingStats {
     double minQ = 1e300, sumQ = 0, minSin = 1e300;
@@ -175,9 +203,8 @@ class Optimizer {
   /// centroidFacing, facesAtCentroid() is enough (collapseApex: a cap across a thin nose).
   bool collapse(int t, int i, bool centroidFacing = false);
   /// Valid in (u,v), facing away from no vertex normal, and facing like the surface (within
-  /// ~78 degrees) at the projection of its centroid. A triangle on a blade's seam, across a nose
-  /// much thinner than itself, makes 80-90 degrees with the seam's normals whatever its shape,
-  /// so valid() leaves only caps lying inside the blade there (propeller_and_shaft d/100).
+  /// ~78 degrees) at the projection of its centroid: across a nose much thinner than itself a
+  /// triangle makes 80-90 degrees with the seam's normals (measured: docs/tuning/optimizer.md).
   bool facesAtCentroid(int a, int b, int c) const;
   bool deviationOk(int a, int b, int c, double allowed) const;
   /// Flipping edge (b,c) of triangles (a,b,c) and (d,c,b) into (a,b,d), (a,d,c) keeps both valid,
