@@ -64,10 +64,9 @@ constexpr int kNearestFaceRounds = 6;
 /// Coordinates beyond this (model units) are damaged geometry, not a model (resolveParams).
 constexpr double kMaxCoordinate = 1e12;
 // its size sources act locally: sizes grow away from them by 0.6 per unit length (grading 1.6),
-// so that the refinement stays on the thin part (at the global grading, 1.3, the propeller's
-// fillets pulled % len OK from 90 to 79 at diagonal/100; at 1.6, 86)
+// so that the refinement stays on the thin part (measured: docs/tuning/pipeline.md)
 constexpr double kNearestFaceSlope = 0.6;
-constexpr double kPredictMargin = 1.5;
+constexpr double kPredictMargin = 1.5;  // over the budget by this factor: not meshed (docs/tuning/pipeline.md)
 
 /// Which boxes a set of size sources reaches: source i changes the size field within reach[i]
 /// of it (h + slope * d < hmax), nowhere else.
@@ -107,8 +106,7 @@ class SourceReach {
 };
 // the nearest-face check's local repairs: around a flagged triangle, centroids may lie off their
 // own surface at most this fraction of their distance to the other face's tangent plane (a
-// triangle is flagged beyond 1/1.1 = 0.91; propeller_and_shaft d/100 with 0.5, 0.7, 0.8: 2304,
-// 2258, 2218 triangles, 4.6, 4.3, 4.0 % below 30 degrees)
+// triangle is flagged beyond 1/1.1 = 0.91; measured: docs/tuning/pipeline.md)
 constexpr double kZoneFraction = 0.8;
 // triangles whose centroid lies less than this fraction of the size off their face are never
 // candidates of the nearest-face check
@@ -222,8 +220,7 @@ struct Mesher::Impl {
     const Box3 box = model.boundingBox();
     const double diag = box.diagonal();
     if (!(diag > 0)) throw InputError("the model has zero extent");
-    // a damaged number (a B-spline pole at 1e300 in a fuzzed occBSplCone.brep) made the edge
-    // discretisation run for ever; no real model reaches 1e12 model units
+    // damaged numbers make the edge discretisation run for ever (docs/tuning/pipeline.md)
     for (int i = 0; i < 3; ++i)
       if (!std::isfinite(box.lo[i]) || !std::isfinite(box.hi[i]) || std::fabs(box.lo[i]) > kMaxCoordinate ||
           std::fabs(box.hi[i]) > kMaxCoordinate)
@@ -304,10 +301,8 @@ struct Mesher::Impl {
       const double dev = 1.4 * p.maxDeviation * p.size;
       // faces: an equilateral triangle of edge h on a surface of curvature k has its centroid
       // about h^2 k / 6 off it, and the sampler's size for a deviation d is the chord of sag d,
-      // sqrt(8 d / k): 3/4 of the bound gives sqrt(6 d / k). Without it the faces' sizes ignored
-      // --max-deviation and the refinement met it alone, edge split by edge split: needles (a
-      // torus tube of radius 0.5 at --size 1 --max-deviation 0.01: mean gamma 0.68, 39 % of the
-      // triangles below 30 degrees)
+      // sqrt(8 d / k): 3/4 of the bound gives sqrt(6 d / k). Without it the refinement meets the
+      // bound alone, split by split: needles (measured: docs/tuning/pipeline.md)
       const double faceDev = 0.75 * p.maxDeviation * p.size;
       const int nf = model.numFaces(), ne = model.numEdges();
       per.resize(nf + ne);
@@ -715,8 +710,7 @@ struct Mesher::Impl {
       const auto q = [eps](double x, int d) { return (uint64_t)((int64_t)std::floor(x / (4 * eps)) + d) & 0x1FFFFF; };
       return (q(p.x, di) << 42) | (q(p.y, dj) << 21) | q(p.z, dk);
     };
-    // a curve that leaves the model's box by more than its diagonal is damaged (a B-spline pole
-    // at 1e300 in a fuzzed occBSplCone.brep: its nodes all fell into one hash cell, a quadratic hang)
+    // a curve that leaves the model's box by more than its diagonal is damaged (docs/tuning/pipeline.md)
     Box3 reach = model.boundingBox();
     const double diag = reach.diagonal();
     for (int i = 0; i < 3; ++i) {
@@ -744,8 +738,7 @@ struct Mesher::Impl {
       const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
       const size_t n = em.t.size();
       // the points first: an edge that cannot be evaluated, or whose curve leaves the model's box
-      // by more than its diagonal (damaged: a B-spline pole at 1e300 in a fuzzed occBSplCone.brep;
-      // its nodes all fell into one hash cell, a quadratic hang), fails alone and adds no node
+      // by more than its diagonal (damaged), fails alone and adds no node
       std::vector<Vec3> xyz(n);
       if (!em.degenerate && n > 0) {
         edgeError_[e] = edgeFailure([&] {
@@ -1207,10 +1200,7 @@ struct Mesher::Impl {
               Vec2 q = uv;
               Vec3 out;
               // a foot on the node is taken even when Newton's convergence test, relative to a
-              // residual of round-off size, did not pass (boxed_sphere Face16's edge nodes 10, 18,
-              // 22 and 29 of 42: 1e-14 from the surface, yet not converged; kept at the pcurve's
-              // (u,v), 0.039 away, they put the (u,v) midpoints of their edges 0.02 off the chords
-              // and every split there was refused)
+              // residual of round-off size, did not pass (measured: docs/tuning/pipeline.md)
               const bool onFoot = s.project(bv.xyz, q, &out, 0.02) || dist(out, bv.xyz) <= tol;
               if (onFoot && dist(out, bv.xyz) <= off) uv = q;
             }
@@ -1227,13 +1217,11 @@ struct Mesher::Impl {
           for (auto& q : pts) q.uv = q.uv + sh;
         }
         // the true boundary between consecutive nodes (curved in (u,v) where the trim is). Where
-        // the pcurve strays from the edge's 3D curve (a tolerant edge: boxed_sphere's corner
-        // patches have pcurves 0.055 inside their circles, radius 0.29), the nodes took the
+        // the pcurve strays from the edge's 3D curve (a tolerant edge), the nodes took the
         // projections of their 3D points, but the trim stays the pcurve's: that is the face
         // OpenCASCADE's classifier knows, and FreeCAD's FEM node lookup by face
         // (FemMesh::getNodesByFace, BRepExtrema within the face's tolerance) misses nodes put in
-        // the strip between (stop 32 tried the projected 3D edges as the trim: the corners met
-        // --max-deviation 0.001, but getNodesByFace missed 136 of a corner's 522 nodes)
+        // the strip between (the projected 3D edges as the trim: docs/tuning/pipeline.md)
         if (pc && !em.degenerate && pcOff > kPcurveStray) fb.strayPcurves.push_back({use.edge, pcOffAbs});
         for (size_t i = 0; i < pts.size(); ++i) {
           if (i == 0 && !fine.empty()) continue;
@@ -1663,9 +1651,8 @@ struct Mesher::Impl {
     fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
     // A min-size the user set is a floor for the refinement too: it splits no edge shorter than
     // twice it. Where the curvature bound asks for less, the triangles stay at the min-size and
-    // the report says so; splitting on made needles instead (a torus tube of radius 0.5 at
-    // --size 1 --min-size 1 --curvature-angle 10: 82 % of the triangles below 30 degrees, mean
-    // gamma 0.43). The default min-size (size / 1000 with a curvature angle) is the size field's
+    // the report says so; splitting on made needles instead (docs/tuning/pipeline.md). The
+    // default min-size (size / 1000 with a curvature angle) is the size field's
     // floor, not the user's: below it the refinement still splits down to a quarter of it.
     fo.minSplitLength = minSizeGiven ? 2.0 * p.minSize : 0.5 * p.minSize;
     fo.minSizeReach = minSizeGiven ? minSizeReach() : 0.0;
@@ -2185,8 +2172,8 @@ MeshOutput Mesher::runUnbudgeted() {
   // the field so far; the nearest-face check adds its sources to it and the mesh is redone. By
   // default (no --nearest-face-check) the refined mesh is kept only within the triangle budget.
   const bool force = d.p.nearestFaceCheck, check = force || d.p.nearestFaceBudget > 0;
-  // the field before the rounds, under each round's field of the sources they add (a copy and
-  // rebuild of the whole field per round took 8 of boxed_sphere --max-deviation 0.001's 20 s)
+  // the field before the rounds, under each round's field of the sources they add (cheaper than
+  // a copy per round: docs/tuning/pipeline.md)
   const std::shared_ptr<const SizeField> field0 = check ? std::make_shared<const SizeField>(d.field) : nullptr;
   std::vector<SizeSource> extra;
   std::unique_ptr<Impl::MeshState> unrefined;
@@ -2237,9 +2224,8 @@ MeshOutput Mesher::runUnbudgeted() {
       }
     }
     if (src.empty() && zoned == 0) break;
-    // two rounds in a row without fewer flagged triangles: the refinement does not converge
-    // (boxed_sphere d/200: 89, 155, 203, ... on a three-sided corner patch); a single such round
-    // happens on the way (propeller_and_shaft d/200: 15, 20, 0)
+    // two rounds in a row without fewer flagged triangles: the refinement does not converge; a
+    // single such round happens on the way (measured: docs/tuning/pipeline.md)
     const auto& fl = d.report.nearestFaceFlagged;
     const size_t nr = fl.size();
     if (nr >= 3 && fl[nr - 1] >= fl[nr - 2] && fl[nr - 2] >= fl[nr - 3]) break;
@@ -2261,8 +2247,7 @@ MeshOutput Mesher::runUnbudgeted() {
     if (unrefined) {
       // elements go with 1 / h^2: the present mesh, resized to the new field, predicts the next
       // one; far over the budget, meshing again would be wasted (the unrefined mesh is kept). The
-      // prediction runs high (Propeller d/100: 10.9 % for 4.4 % real; propeller_and_shaft d/100:
-      // 19.6 % for 17.1 %), hence the margin kPredictMargin
+      // prediction runs high, hence the margin kPredictMargin
       double count = 0;
       for (const auto& T : d.mesh.triangles) {
         const Vec3 c = (1.0 / 3) * (d.mesh.nodes[T[0]] + d.mesh.nodes[T[1]] + d.mesh.nodes[T[2]]);
@@ -2355,8 +2340,8 @@ QualitySummary summarizeQuality(const SurfaceMesh& m, const std::function<double
     q.pctAngleBelow30 = 100.0 * below30 / nt;
   }
   // unique edges, in (low node, high node) order: bucketed by the low node (a counting sort),
-  // then each node's few high ends sorted and deduplicated (sorting all the element sides was
-  // 4 % of the instructions of sheet_metal_54 d/200)
+  // then each node's few high ends sorted and deduplicated (cheaper than sorting all sides:
+  // docs/tuning/pipeline.md)
   const int nn = (int)m.nodes.size();
   std::vector<int> start(nn + 1, 0);
   auto sides = [&](auto&& visit) {
