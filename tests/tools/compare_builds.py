@@ -14,7 +14,7 @@ diagonal as `paramesh info` prints it):
   deviation  every model at d/50 with --max-deviation 0.001
   quads      every model at d/100 with --quads
   order2     every model at d/100 with --order 2
-  layers     the boundary-layer cases of tests/python/test_boundary_layer.py (CLI form)
+  layers     the boundary-layer cases of tests/python/test_boundary_layer*.py (CLI form)
 Prints one line per differing case and a summary; exits 1 when any case differs.
 """
 import argparse, json, os, re, subprocess, sys
@@ -25,7 +25,7 @@ MODELS = os.path.abspath(os.path.join(ROOT, '..', 'shared', 'models'))
 if not os.path.isdir(MODELS):
     MODELS = os.path.join(ROOT, 'tests', 'data')
 
-# (name, model, size, extra CLI arguments): the layers of tests/python/test_boundary_layer.py
+# (name, model, size, extra CLI arguments): the layers of tests/python/test_boundary_layer*.py
 LAYER_CASES = [
     ('m6_le', 'AileM6_with_sharp_TE.stp', 16.75, '--bl-edges 21 --bl-first-height 0.5 --bl-growth 1.2 --bl-layers 20'),
     ('m6_tip', 'AileM6_with_sharp_TE.stp', 16.75, '--bl-edges 21,6 --bl-first-height 0.5 --bl-growth 1.2 --bl-layers 20'),
