@@ -160,24 +160,18 @@ def walk_columns(mesh, on, max_rows=10000):
     cols = []
     for kind, k, a, b in starts:
         face = int(mesh.elem_face[k])
-        heights, sides, visited = [], [], {k}
-        if kind == "quad":
+        heights, visited = [], {k}
+        if kind == "quad":  # the first row's bottom corners and the corners above them
             qa, qb, qc, qd = _quad_rotated(mesh.elements[k], a, b)
-            base = (qa, qb)
-            sides = [(qa, qd), (qb, qc)]
-            heights.append(0.5 * (_length(P, qa, qd) + _length(P, qb, qc)))
-            top = (qd, qc)
-            left, right = [qa, qd], [qb, qc]
-            cur = k
-        else:
-            c = a
-            ta, tb = b
-            base = (c, c)
-            sides = [(c, ta), (c, tb)]
-            heights.append(0.5 * (_length(P, c, ta) + _length(P, c, tb)))
-            top = (ta, tb)
-            left, right = [c, ta], [c, tb]
-            cur = k
+            b0, b1, t0, t1 = qa, qb, qd, qc
+        else:  # a fan: both sides rise from the corner node a to the triangle's opposite edge b
+            b0, b1, (t0, t1) = a, a, b
+        base = (b0, b1)
+        sides = [(b0, t0), (b1, t1)]
+        heights.append(0.5 * (_length(P, b0, t0) + _length(P, b1, t1)))
+        top = (t0, t1)
+        left, right = [b0, t0], [b1, t1]
+        cur = k
         stop, handoff = "boundary", None
         while len(heights) < max_rows:
             nxt = mesh.other_elem(cur, top[0], top[1])
