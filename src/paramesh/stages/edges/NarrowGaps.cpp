@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file NarrowGaps.cpp
+/// Edge stage, narrow gaps: where two boundary loops of a face come closer than the size, the
+/// nodes of the two sides are staggered (or spaced wide in very thin strips) so that the
+/// triangles across the gap keep their angles. Reads model, field, the edges' parameters;
+/// rewrites those parameters and staggered_.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "paramesh/pipeline/MeshContext.hpp"
+#include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/model/EdgeDiscretizer.hpp"
+
+namespace paramesh {
+
+using namespace tuning;
+
+std::vector<std::vector<LoopNode>> MeshContext::loopNodes(int f, const std::vector<std::vector<double>>& ts,
+                                             const std::vector<char>& degen) const {
+  std::vector<std::vector<LoopNode>> loops;
+  auto s = model.makeSurface(f);
+  const bool rev = model.faceReversed(f);
+  const auto& wires = model.faceWires(f);
+  for (size_t w = 0; w < wires.size(); ++w) {
+    std::vector<LoopNode> L;
+    std::vector<Vec3> nrm;
+    for (size_t k = 0; k < wires[w].uses.size(); ++k) {
+      const EdgeUse& u = wires[w].uses[k];
+      const int e = u.edge;
+      if (same.edgeRep[e] != e || ts[e].size() < 2) return {};
+      if (degen[e]) {
+        const int v = model.edgeVertex(e, 0);
+        if (v < 0) return {};
+        LoopNode ln;
+        ln.xyz = model.vertexPoint(v);
+        ln.edge = e;
+        L.push_back(ln);
+        nrm.push_back({0, 0, 0});
+        continue;
+      }
+      auto c = model.makeCurve(e);
+      auto pc = model.makePCurve(f, (int)w, (int)k);
+      const auto& t = ts[e];
+      const size_t n = t.size();
+      for (size_t i = 0; i + 1 < n; ++i) {
+        const double tt = u.reversed ? t[n - 1 - i] : t[i];
+        LoopNode ln;
+        ln.xyz = c->eval(tt);
+        ln.edge = e;
+        Vec3 N{0, 0, 0};
+        if (!pc || !s->normal(pc->eval(tt), N)) N = {0, 0, 0};
+        L.push_back(ln);
+        nrm.push_back(rev ? -1.0 * N : N);
+      }
+    }
+    const int m = (int)L.size();
+    if (m < 3) continue;
+    for (int i = 0; i < m; ++i) {
+      const Vec3 v = cross(nrm[i], L[(i + 1) % m].xyz - L[(i + m - 1) % m].xyz);
+      L[i].inward = norm2(v) > 0 ? normalized(v) : Vec3{0, 0, 0};
+    }
+    loops.push_back(std::move(L));
+  }
+  return loops;
+}
+
+bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
+  const int nf = model.numFaces(), ne = model.numEdges();
+  staggered_.assign(ne, 0);
+  std::vector<std::vector<NarrowGap>> gaps(nf);
+  parallelFor(nf, threads, [&](int f) {
+    progress.poll();
+    try {
+      gaps[f] = findNarrowGaps(loopNodes(f, ts, degen), kStaggerTo * 1.4);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (...) {
+      gaps[f].clear();
+    }
+  });
+  // the leader spacing each gap asks for, at both of its ends; pair weights
+  struct Want {
+    Vec3 x;
+    double b;
+  };
+  std::vector<std::vector<Want>> wants(ne), wide(ne);
+  std::map<std::pair<int, int>, int> weight;
+  std::map<std::pair<int, int>, std::vector<const NarrowGap*>> tooNarrow;  // (edge, edge across)
+  for (const auto& fg : gaps)
+    for (const NarrowGap& g : fg) {
+      const double h = field.size(g.p);
+      const double r = g.width / h;
+      if (r >= kStaggerTo) continue;
+      // leader spacings between bLen (slanted edges h/sqrt2) and bAng (base angles 31 degrees),
+      // with room for the follower's side being a little longer than the leader's
+      const double bLen = 2.0 * std::sqrt(std::max(0.5 - r * r, 0.0)) * h, bAng = kStaggerMaxAspect * g.width;
+      if (bAng < kStaggerWindow * bLen) {
+        if (r > kWideStripMinWidth && g.edgeIn == g.edgeOut && g.edgeIn >= 0 && g.edgeAcross >= 0 && g.edgeAcross != g.edgeIn)
+          tooNarrow[{g.edgeIn, g.edgeAcross}].push_back(&g);
+        continue;
+      }
+      const double b = std::min(std::max(h, 1.06 * bLen), std::min(kStaggerMaxSpacing * h, bAng / 1.04));
+      const int across = g.edgeAcross;
+      if (across < 0 || !mayRespace(across, degen)) continue;
+      wants[across].push_back({g.q, b});
+      for (int e : {g.edgeIn, g.edgeOut}) {
+        if (e >= 0 && e != across && mayRespace(e, degen)) {
+          wants[e].push_back({g.p, b});
+          ++weight[{std::min(e, across), std::max(e, across)}];
+        }
+        if (g.edgeIn == g.edgeOut) break;
+      }
+    }
+  // long strips too narrow to stagger: both sides widened (where neither side is staggered)
+  for (const auto& kv : tooNarrow) {
+    if ((int)kv.second.size() < kWideStripNodes) continue;
+    const int e = kv.first.first, a = kv.first.second;
+    if (!mayRespace(e, degen) || !mayRespace(a, degen)) continue;
+    for (const NarrowGap* g : kv.second) {
+      const double b = kWideStripSpacing * field.size(g->p);
+      wide[e].push_back({g->p, b});
+      wide[a].push_back({g->q, b});
+    }
+  }
+  // the field's size, raised to each wanted spacing near where it is wanted (graded away)
+  auto discretizeWidened = [&](int e, const std::vector<Want>& W) {
+    ts[e] = discretizeWith(e, [&](Vec3 x) {
+      double h = field.size(x);
+      for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
+      return h;
+    });
+  };
+  std::vector<std::pair<int, std::pair<int, int>>> pairs;
+  for (const auto& kv : weight) pairs.push_back({kv.second, kv.first});
+  std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  // roles: an edge leads, follows (its leaders' nodes fixed first) or is free; no cycles
+  std::vector<std::vector<int>> leaders(ne);
+  std::vector<char> follower(ne, 0), leads(ne, 0);
+  auto dependsOn = [&](int x0, int target) {  // does x0 (transitively) follow target?
+    std::vector<int> stack{x0};
+    std::vector<char> seen(ne, 0);
+    while (!stack.empty()) {
+      const int x = stack.back();
+      stack.pop_back();
+      if (x == target) return true;
+      if (seen[x]) continue;
+      seen[x] = 1;
+      for (int y : leaders[x]) stack.push_back(y);
+    }
+    return false;
+  };
+  for (const auto& pr : pairs) {
+    int a = pr.second.first, b = pr.second.second;
+    if (follower[a] && follower[b]) continue;
+    if (follower[a] || (leads[b] && !leads[a])) std::swap(a, b);  // b follows a
+    if (dependsOn(a, b)) continue;
+    leaders[b].push_back(a);
+    follower[b] = 1;
+    leads[a] = 1;
+  }
+  int changed = 0;
+  // leaders that follow no one: spacing widened along their gaps
+  for (int e = 0; e < ne; ++e) {
+    if (!leads[e] || follower[e] || wants[e].empty()) continue;
+    discretizeWidened(e, wants[e]);
+    staggered_[e] = 1;
+    ++changed;
+  }
+  // followers in dependency order, staggered against their leaders' nodes
+  std::vector<int> order;
+  std::vector<char> placed(ne, 0);
+  for (bool more = true; more;) {
+    more = false;
+    for (int e = 0; e < ne; ++e) {
+      if (!follower[e] || placed[e]) continue;
+      bool ready = true;
+      for (int a : leaders[e]) ready = ready && (!follower[a] || placed[a]);
+      if (!ready) continue;
+      placed[e] = 1;
+      order.push_back(e);
+      more = true;
+    }
+  }
+  int staggered = 0;
+  for (int b : order) {
+    progress.poll();
+    auto cb = model.makeCurve(b);
+    double t0, t1;
+    model.edgeRange(b, t0, t1);
+    const std::vector<Vec3> poly = sampleCurve(*cb, t0, t1, &field).p;
+    double hMax = 0;
+    for (const Vec3& x : poly) hMax = std::max(hMax, field.size(x));
+    const SegmentIndex near_b(poly, hMax);
+    // the leaders' nodes near b, and their neighbours along the leader
+    std::vector<Vec3> near;
+    for (int a : leaders[b]) {
+      auto ca = model.makeCurve(a);
+      std::vector<Vec3> xa;
+      for (double t : ts[a]) xa.push_back(ca->eval(t));
+      std::vector<char> take(xa.size(), 0);
+      for (size_t i = 0; i < xa.size(); ++i)
+        if (near_b.nearest(xa[i], kStaggerTo * field.size(xa[i])) >= 0) {
+          take[i] = 1;
+          if (i > 0) take[i - 1] = 1;
+          if (i + 1 < xa.size()) take[i + 1] = 1;
+        }
+      for (size_t i = 0; i < xa.size(); ++i)
+        if (take[i]) near.push_back(xa[i]);
+    }
+    if (near.size() < 2) continue;
+    ts[b] = staggeredParameters(*cb, t0, t1, near, field, kPi / 3.0);
+    staggered_[b] = 1;
+    ++staggered;
+    ++changed;
+  }
+  int widened = 0;
+  for (int e = 0; e < ne; ++e)
+    if (!wide[e].empty() && !staggered_[e] && !follower[e]) {
+      discretizeWidened(e, wide[e]);
+      ++widened;
+    }
+  if (changed || widened)
+    log.info("narrow gaps: " + std::to_string(staggered) + " edges staggered against " +
+             std::to_string(changed - staggered) + " widened ones; " + std::to_string(widened) +
+             " sides of long narrow strips widened");
+  return changed + widened > 0;
+}
+
+}  // namespace paramesh

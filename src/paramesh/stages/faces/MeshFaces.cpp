@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file MeshFaces.cpp
+/// Face stage: every face meshed in (u,v) from its boundary (in parallel, a failing face does not
+/// take the others down), faces the previous round left unchanged reused, and the results
+/// assembled into one conformal, oriented mesh. Reads model, field, edges, vertexNode, zones_;
+/// writes mesh (triangles, quads), triUv, quadUv, report.faces, offSurface, triDeviation.
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "paramesh/pipeline/MeshContext.hpp"
+#include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/model/EdgeDiscretizer.hpp"
+#include "paramesh/stages/faces/FaceBoundaryBuild.hpp"
+#include "paramesh/util/Format.hpp"
+
+namespace paramesh {
+
+using namespace tuning;
+
+int MeshContext::failedEdgeOf(int f) const {
+  if (edgeError_.empty()) return -1;
+  for (const Wire& w : model.faceWires(f))
+    for (const EdgeUse& u : w.uses)
+      if (!edgeError_[u.edge].empty()) return u.edge;
+  return -1;
+}
+
+void MeshContext::logStrayPcurves() {
+  if (strayLogged_) return;
+  strayLogged_ = true;
+  int faces = 0, uses = 0, worstFace = -1, worstEdge = -1;
+  double worst = 0;
+  for (int f = 0; f < (int)strayPcurves_.size(); ++f) {
+    if (strayPcurves_[f].empty()) continue;
+    ++faces;
+    for (const auto& t : strayPcurves_[f]) {
+      ++uses;
+      if (t.second > worst) {
+        worst = t.second;
+        worstFace = f;
+        worstEdge = t.first;
+      }
+    }
+  }
+  if (!faces) return;
+  log.info("pcurves off their 3D edges: " + std::to_string(uses) + " edge use" + (uses == 1 ? "" : "s") + " on " +
+           std::to_string(faces) + " face" + (faces == 1 ? "" : "s") +
+           " (worst: Edge" + std::to_string(worstEdge + 1) +
+           " on Face" + std::to_string(worstFace + 1) + ", " + fmt(worst) + " off, edge tolerance " +
+           fmt(model.edgeTolerance(worstEdge)) + ")");
+}
+
+void MeshContext::meshFaces() {
+  Timer tm;
+  const int nf = model.numFaces();
+  strayPcurves_.assign(nf, {});
+  std::vector<FaceMeshResult> results(nf);
+  report.faces.assign(nf, FaceReport());
+  std::atomic<int> done{0};
+  // biggest faces first for load balance: estimate by boundary node count
+  std::vector<int> order(nf);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<size_t> weight(nf, 0);
+  for (int f = 0; f < nf; ++f)
+    for (const Wire& w : model.faceWires(f))
+      for (const EdgeUse& u : w.uses) weight[f] += edges[u.edge].t.size();
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight[a] > weight[b]; });
+  FaceMeshOptions fo;
+  fo.optimizePasses = p.optimizePasses;
+  fo.quads = p.quads;
+  fo.maxDeviation = p.maxDeviation * p.size;
+  // a triangle whose edges subtend the curvature angle t (radians) on a sphere has its centroid
+  // t/6 of its edge length off the surface: allow no more (10 degrees: 0.029)
+  fo.maxDeviationRatio = p.curvatureAngle > 0 ? p.curvatureAngle * kPi / 180.0 / 6.0 : 0.0;
+  // A min-size the user set is a floor for the refinement too: it splits no edge shorter than
+  // twice it. Where the curvature bound asks for less, the triangles stay at the min-size and
+  // the report says so; splitting on made needles instead (docs/tuning/pipeline.md). The
+  // default min-size (size / 1000 with a curvature angle) is the size field's
+  // floor, not the user's: below it the refinement still splits down to a quarter of it.
+  fo.minSplitLength = minSizeGiven ? 2.0 * p.minSize : 0.5 * p.minSize;
+  fo.minSizeReach = minSizeGiven ? minSizeReach() : 0.0;
+  fo.reportOffSurface = p.nearestFaceCheck || p.nearestFaceBudget > 0;
+  const std::vector<char> reused = reusePreviousRound(results);
+  parallelFor(nf, threads, [&](int f) {
+    if (reused[f]) return;
+    progress.poll();
+    Timer ft;
+    FaceReport& fr = report.faces[f];
+    fr.face = f + 1;
+    try {
+      auto s = model.makeSurface(f);
+      fr.surface = toString(s->kind());
+      FaceBoundary fb;
+      std::string why;
+      const int bad = failedEdgeOf(f);
+      if (bad >= 0) {
+        fr.ok = false;
+        const std::string name = "Edge" + std::to_string(bad + 1), &reason = edgeError_[bad];
+        fr.error = "its " + name + " could not be discretised: " +
+                   (reason.rfind(name + ": ", 0) == 0 ? reason.substr(name.size() + 2) : reason);
+      } else if (!buildFaceBoundary(model, edges, mesh, field, f, *s, fb, why)) {
+        fr.ok = false;
+        fr.error = why;
+      } else if (hasBoundaryLayer(f)) {
+        strayPcurves_[f] = fb.strayPcurves;
+        results[f] = meshFaceWithLayers(f, *s, fb, fo);
+        fr.ok = results[f].ok;
+        fr.error = results[f].error;
+      } else {
+        strayPcurves_[f] = fb.strayPcurves;
+        FaceMeshOptions zo;  // with the nearest-face check's zones on this face
+        const bool zoned = f < (int)zones_.size() && !zones_[f].empty();
+        if (zoned) {
+          zo = fo;
+          zo.deviationZones = zones_[f];
+        }
+        results[f] = meshFace(*s, fb, field, zoned ? zo : fo, &progress);
+        fr.ok = results[f].ok;
+        fr.error = results[f].error;
+        fr.rejectedPoints = results[f].rejectedPoints;
+      }
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      fr.ok = false;
+      fr.error = e.what();
+    } catch (...) {
+      fr.ok = false;
+      fr.error = "geometry kernel exception";
+    }
+    fr.seconds = ft.seconds();
+    const int k = ++done;
+    progress.report(0.15 + 0.8 * k / std::max(nf, 1), "faces");
+  }, &order);
+  stage("faces", tm.seconds());
+  logStrayPcurves();
+  // assemble in face order (deterministic)
+  Timer ta;
+  for (int f = 0; f < nf; ++f) {
+    FaceMeshResult& r = results[f];
+    FaceReport& fr = report.faces[f];
+    if (!fr.ok) {
+      log.warn("Face" + std::to_string(f + 1) + " failed: " + fr.error);
+      continue;
+    }
+    const int base = (int)mesh.nodes.size();
+    for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
+    triDeviation.resize(mesh.triangles.size() + r.tris.size(), 0.0);
+    for (const auto& od : r.offSurface) {
+      const int t = (int)mesh.triangles.size() + od.first;
+      triDeviation[t] = od.second;
+      // deeper than 4.5 % of the mesh size; faces with boundary layers keep their rows as they are
+      if (r.triLayer.empty() && od.second > kOffSurfaceCandidate * std::min(p.size, p.maxSize))
+        offSurface.push_back({t, od.second});
+    }
+    const bool rev = model.faceReversed(f);
+    for (size_t k = 0; k < r.tris.size(); ++k) {
+      auto t = r.tris[k];
+      auto uv = r.triUv[k];
+      for (int& v : t)
+        if (v < 0) v = base + (-v - 1);
+      if (rev) {
+        std::swap(t[1], t[2]);
+        std::swap(uv[1], uv[2]);
+      }
+      mesh.triangles.push_back(t);
+      mesh.triangleFace.push_back(f + 1);
+      mesh.triangleLayer.push_back(k < r.triLayer.size() ? r.triLayer[k] : 0);
+      triUv.push_back(uv);
+    }
+    for (size_t k = 0; k < r.quads.size(); ++k) {
+      auto q = r.quads[k];
+      auto uv = r.quadUv[k];
+      for (int& v : q)
+        if (v < 0) v = base + (-v - 1);
+      if (rev) {
+        std::swap(q[1], q[3]);
+        std::swap(uv[1], uv[3]);
+      }
+      mesh.quads.push_back(q);
+      mesh.quadFace.push_back(f + 1);
+      mesh.quadLayer.push_back(k < r.quadLayer.size() ? r.quadLayer[k] : 0);
+      quadUv.push_back(uv);
+    }
+    fr.triangles = (int)r.tris.size();
+    fr.quads = (int)r.quads.size();
+    fr.nodes = (int)r.newXyz.size();
+    fr.overDeviation = (int)r.deviationMisses.size();
+    fr.crestSegments = r.crestSegments;
+    fr.crestRowSegments = r.crestRowSegments;
+    fr.overDeviationWorst = 0;
+    fr.overDeviationRadius = std::numeric_limits<double>::infinity();
+    fr.overDeviationResolvable = 0;
+    const double reach = minSizeReach();
+    for (const FaceMeshResult::DeviationMiss& m : r.deviationMisses) {
+      if (reach > 0 && m.radius >= reach) ++fr.overDeviationResolvable;
+      const double x = m.deviation / m.allowed;
+      if (x > fr.overDeviationWorst) {
+        fr.overDeviationWorst = x;
+        fr.overDeviationAt[0] = m.at.x;
+        fr.overDeviationAt[1] = m.at.y;
+        fr.overDeviationAt[2] = m.at.z;
+      }
+      fr.overDeviationRadius = std::min(fr.overDeviationRadius, m.radius);
+    }
+  }
+  stage("assemble", ta.seconds());
+  if (fo.reportOffSurface && blLaws.empty()) {  // kept for the next round of the nearest-face check
+    auto prev = std::make_unique<PreviousRound>();
+    prev->points.assign(nf, {});
+    std::vector<int> seen(mesh.nodes.size(), -1);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const int f = mesh.triangleFace[t] - 1;
+      for (int v : mesh.triangles[t])
+        if (seen[v] != f) {
+          seen[v] = f;
+          prev->points[f].push_back(mesh.nodes[v]);
+        }
+    }
+    prev->results = std::move(results);
+    prev->reports = report.faces;
+    prev->edges = edges;
+    previous_ = std::move(prev);
+  }
+}
+
+std::vector<char> MeshContext::reusePreviousRound(std::vector<FaceMeshResult>& results) {
+  const int nf = model.numFaces();
+  std::vector<char> reused(nf, 0);
+  if (!previous_) return reused;
+  std::unique_ptr<PreviousRound> prev = std::move(previous_);
+  const int ne = model.numEdges();
+  std::vector<char> edgeSame(ne, 0);
+  for (int e = 0; e < ne && (size_t)e < prev->edges.size(); ++e)
+    edgeSame[e] = prev->edges[e].t == edges[e].t && prev->edges[e].degenerate == edges[e].degenerate &&
+                  prev->edges[e].nodes.size() == edges[e].nodes.size();
+  const double hmax = field.hmax();
+  // the field is queried on the surface between the nodes too: one size of margin
+  std::vector<Vec3> at;
+  std::vector<double> reach;
+  for (const SizeSource& src : roundSources_) {
+    at.push_back(src.p);
+    reach.push_back((hmax - src.h) / kNearestFaceSlope + hmax);
+  }
+  const SourceReach near(std::move(at), std::move(reach));
+  int kept = 0;
+  for (int f = 0; f < nf; ++f) {
+    bool ok = !prev->points[f].empty() || !prev->reports[f].ok;
+    if (f < (int)zonesAdded_.size() && zonesAdded_[f]) ok = false;
+    for (const Wire& w : model.faceWires(f))
+      for (const EdgeUse& u : w.uses) ok = ok && edgeSame[same.edgeRep[u.edge]];
+    if (!ok) continue;
+    for (const Vec3& x : prev->points[f]) {
+      ok = !near.reaches(x, x);
+      if (!ok) break;
+    }
+    if (!ok) continue;
+    // boundary nodes: old id -> new id through the face's edges
+    std::unordered_map<int, int> to;
+    for (const Wire& w : model.faceWires(f))
+      for (const EdgeUse& u : w.uses) {
+        const int e = same.edgeRep[u.edge];
+        for (size_t i = 0; i < edges[e].nodes.size(); ++i) to[prev->edges[e].nodes[i]] = edges[e].nodes[i];
+      }
+    FaceMeshResult r = std::move(prev->results[f]);
+    auto renumber = [&](int& v) {
+      if (v < 0) return true;
+      auto it = to.find(v);
+      if (it == to.end()) return false;
+      v = it->second;
+      return true;
+    };
+    for (auto& t : r.tris)
+      for (int& v : t) ok = ok && renumber(v);
+    for (auto& q : r.quads)
+      for (int& v : q) ok = ok && renumber(v);
+    if (!ok) continue;  // a node of another edge (cannot happen with unchanged edges): mesh anew
+    results[f] = std::move(r);
+    report.faces[f] = prev->reports[f];
+    reused[f] = 1;
+    ++kept;
+  }
+  log.info("nearest-face round: " + std::to_string(nf - kept) + " of " + std::to_string(nf) + " faces meshed again");
+  report.nearestFaceRemeshed.push_back(nf - kept);
+  return reused;
+}
+
+}  // namespace paramesh
