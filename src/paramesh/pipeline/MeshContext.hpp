@@ -33,6 +33,8 @@
 
 namespace paramesh {
 
+struct EdgePolylines;
+
 struct MeshContext {
   const IGeometryModel& model;
   MeshParams p;
@@ -131,6 +133,18 @@ struct MeshContext {
   static std::string edgeFailure(const std::function<void()>& work);
 
   void discretizeEdges();
+  /// One edge's work under the kernel-failure guard: an edge the kernel cannot evaluate fails
+  /// alone (no nodes, edgeError_ says why; the faces it bounds fail naming it).
+  void discretizeOne(int e, std::vector<std::vector<double>>& ts, const std::function<void()>& body);
+  /// Every edge (or those marked in only) discretised by 3D length in the size field.
+  void discretizeAll(std::vector<std::vector<double>>& ts, std::vector<char>& degen, const std::vector<char>* only);
+  void discretizeEdge(int e, std::vector<std::vector<double>>& ts, std::vector<char>& degen);
+  // ---------------------------------------------------------------- short edges (ShortEdges.cpp)
+  /// Short CAD edges become size sources (the edges they reach discretised again); edges closing
+  /// a strip a few elements wide get row-height segments.
+  void refineShortEdges(std::vector<std::vector<double>>& ts, std::vector<char>& degen);
+  void addShortEdgeSources(const EdgePolylines& poly, std::vector<std::vector<double>>& ts, std::vector<char>& degen);
+  void respaceStripEnds(const EdgePolylines& poly, std::vector<std::vector<double>>& ts, const std::vector<char>& degen);
 
   /// The edge nodes again from the last discretisation (the size field has not changed since).
   void reuseEdges();
@@ -157,6 +171,8 @@ struct MeshContext {
   /// single row cannot have good angles there without edges shorter than h/sqrt2). Returns true
   /// when some edge changed.
   bool staggerNarrowGaps(std::vector<std::vector<double>>& ts, const std::vector<char>& degen);
+  /// Edge b re-spaced against its leaders' nodes near it (false: too few of them).
+  bool staggerAgainstLeaders(int b, const std::vector<int>& leadersOfB, std::vector<std::vector<double>>& ts);
 
   /// May the boundary stages (narrow gaps, corners, strip ends) change edge e's discretisation?
   /// Not a degenerate edge, and in unsewn CAD not a free edge: free edges of unsewn patches often
@@ -206,6 +222,15 @@ struct MeshContext {
   void logStrayPcurves();
 
   void meshFaces();
+  /// The face mesher's options from the parameters.
+  FaceMeshOptions faceOptions() const;
+  /// Face f meshed from its boundary (its error in the report when it fails: the others go on).
+  void meshOneFace(int f, const FaceMeshOptions& fo, FaceMeshResult& result);
+  // ================================================================ stages/assemble (Assemble.cpp)
+  /// Face f's result appended to the mesh (oriented, numbered) and its report counts.
+  void assembleFace(int f, FaceMeshResult& r);
+  /// The round's results kept for the next nearest-face round (faces it leaves unchanged are reused).
+  void keepForNextRound(std::vector<FaceMeshResult>&& results);
 
   /// Fills results[f] with the previous round's mesh of every face that can keep it (node
   /// references renumbered); returns which. A face keeps its mesh when each of its edges has the

@@ -40,202 +40,13 @@ void MeshContext::discretizeEdges() {
   std::vector<std::vector<double>> ts(ne);
   std::vector<char> degen(ne, 0);
   edgeError_.assign(ne, std::string());
-  // an edge the geometry kernel cannot evaluate (a damaged curve) fails alone: it gets no nodes,
-  // the faces bounded by it fail naming it, the others are meshed
-  auto discretizeOne = [&](int e, const std::function<void()>& body) {
-    if (!edgeError_[e].empty()) return;
-    edgeError_[e] = edgeFailure(body);
-    if (!edgeError_[e].empty()) ts[e].clear();
-  };
-  // every edge, or those marked in only
-  auto discretizeAll = [&](const std::vector<char>* only) {
-  parallelFor(ne, threads, [&](int e) { if (only && !(*only)[e]) return; discretizeOne(e, [&] {
-    progress.poll();
-    double t0, t1;
-    model.edgeRange(e, t0, t1);
-    if (same.edgeRep[e] != e) return;  // meshed through its representative
-    if (model.edgeDegenerate(e)) {
-      degen[e] = 1;
-      ts[e] = {t0, t1};
-      return;
-    }
-    auto c = model.makeCurve(e);
-    const EdgeBLPoints* bp = blEnds.empty() ? nullptr : &blEnds[e];
-    if (bp && (!bp->fromStart.empty() || !bp->fromEnd.empty())) {
-      // boundary-layer points fixed at the ends, the middle discretised as usual
-      const double a = bp->fromStart.empty() ? t0 : bp->fromStart.back();
-      const double b = bp->fromEnd.empty() ? t1 : bp->fromEnd.back();
-      std::vector<double> t{t0};
-      t.insert(t.end(), bp->fromStart.begin(), bp->fromStart.end());
-      CurveSampling cs = sampleCurve(*c, a, b, &field);
-      const std::vector<double> midT = discretizeCurve(cs, field, 1, kPi / 3.0);
-      t.insert(t.end(), midT.begin() + 1, midT.end() - 1);
-      t.insert(t.end(), bp->fromEnd.rbegin(), bp->fromEnd.rend());
-      t.push_back(t1);
-      ts[e] = t;
-      return;
-    }
-    // BL edges keep their spanwise spacing: the layers' own sizes do not refine them
-    const SizeField& f = (!blSpecOf.empty() && blSpecOf[e] >= 0) ? baseField : field;
-    CurveSampling cs = sampleCurve(*c, t0, t1, &f);
-    const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
-    const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
-    ts[e] = discretizeCurve(cs, f, closed ? 3 : 1, kPi / 3.0);
-  }); });
-  };
-  discretizeAll(nullptr);
+  discretizeAll(ts, degen, nullptr);
   // CAD edges much shorter than the size field, in chains (a finely detailed boundary) or split
   // into 3+ segments by the turning limit (tight arcs), become size sources at their segment
   // lengths, and the edges are discretised again: the neighbouring edges and the face interiors
   // grade down to them instead of standing long thin triangles on them. Short edges that close
   // a narrow strip are left alone (refining there only multiplies the strip's slivers).
-  if (p.shortEdgeSources && blLaws.empty()) {
-    // nodes of every edge, and the edges at each (representative) vertex
-    std::vector<std::vector<Vec3>> pts(ne);
-    parallelFor(ne, threads, [&](int e) {
-      if (degen[e] || same.edgeRep[e] != e || ts[e].size() < 2) return;
-      discretizeOne(e, [&] {
-        auto c = model.makeCurve(e);
-        for (double t : ts[e]) pts[e].push_back(c->eval(t));
-      });
-      if (!edgeError_[e].empty()) pts[e].clear();
-    });
-    std::vector<std::vector<std::pair<int, int>>> atVertex(model.numVertices());  // (edge, end)
-    for (int e = 0; e < ne; ++e) {
-      if (pts[e].empty()) continue;
-      for (int k = 0; k < 2; ++k) {
-        const int v = model.edgeVertex(e, k);
-        if (v >= 0) atVertex[same.vertexRep[v]].push_back({e, k});
-      }
-    }
-    auto polyLength = [&](int e) {
-      double L = 0;
-      for (size_t i = 1; i < pts[e].size(); ++i) L += dist(pts[e][i - 1], pts[e][i]);
-      return L;
-    };
-    auto distToPoly = [&](Vec3 x, int e) {
-      double best = 1e300;
-      const auto& P = pts[e];
-      for (size_t i = 1; i < P.size(); ++i) {
-        const Vec3 d = P[i] - P[i - 1];
-        const double dd = dot(d, d);
-        const double w = dd > 0 ? std::clamp(dot(x - P[i - 1], d) / dd, 0.0, 1.0) : 0.0;
-        best = std::min(best, dist(x, P[i - 1] + w * d));
-      }
-      return best;
-    };
-    // point of edge e at about arc length s from its end k
-    auto along = [&](int e, int k, double sArc) {
-      const auto& P = pts[e];
-      const int n = (int)P.size();
-      double acc = 0;
-      for (int i = 1; i < n; ++i) {
-        const Vec3 x0 = k == 0 ? P[i - 1] : P[n - i], x1 = k == 0 ? P[i] : P[n - 1 - i];
-        const double l = dist(x0, x1);
-        if (acc + l >= sArc && l > 0) return x0 + ((sArc - acc) / l) * (x1 - x0);
-        acc += l;
-      }
-      return k == 0 ? P.back() : P.front();
-    };
-    // A short edge closing a narrow strip (the end of a thin face: its neighbours run on side by
-    // side at about its length) is no small feature: refining there only multiplies the
-    // strip's slivers.
-    auto closesStrip = [&](int e, double l) {
-      const int va = model.edgeVertex(e, 0), vb = model.edgeVertex(e, 1);
-      if (va < 0 || vb < 0) return false;
-      for (const auto& ea : atVertex[same.vertexRep[va]]) {
-        if (ea.first == e) continue;
-        const double La = polyLength(ea.first);
-        if (La < 3 * l) continue;
-        const Vec3 x = along(ea.first, ea.second, std::min(0.5 * La, 3 * l));
-        for (const auto& eb : atVertex[same.vertexRep[vb]]) {
-          if (eb.first == e || eb.first == ea.first) continue;
-          if (distToPoly(x, eb.first) < 1.5 * l) return true;
-        }
-      }
-      return false;
-    };
-    std::vector<char> isShort(ne, 0);
-    for (int e = 0; e < ne; ++e) {
-      if (pts[e].size() < 2) continue;
-      const double L = polyLength(e);
-      const double hf = field.size(pts[e][pts[e].size() / 2]);
-      isShort[e] = L > 0 && L < kShortSegment * hf && !closesStrip(e, L);
-    }
-    // a short edge next to another short edge: a finely detailed boundary (one isolated short
-    // edge costs a few poor triangles; refining around it would cost hundreds of elements)
-    auto inChain = [&](int e) {
-      for (int k = 0; k < 2; ++k) {
-        const int v = model.edgeVertex(e, k);
-        if (v < 0) continue;
-        for (const auto& ev : atVertex[same.vertexRep[v]])
-          if (ev.first != e && isShort[ev.first]) return true;
-      }
-      return false;
-    };
-    std::vector<std::vector<SizeSource>> found(ne);
-    parallelFor(ne, threads, [&](int e) {
-      // a short edge on its own counts when the turning limit split it into three segments or
-      // more: a tight arc (small rounded feature) rather than a mere short chord
-      if (!isShort[e] || !(inChain(e) || pts[e].size() > 3)) return;
-      const auto& P = pts[e];
-      for (size_t i = 1; i < P.size(); ++i) {
-        const double hs = std::max(dist(P[i - 1], P[i]), p.minSize);
-        if (i == 1) found[e].push_back({P[0], hs});
-        found[e].push_back({0.5 * (P[i - 1] + P[i]), hs});
-        found[e].push_back({P[i], hs});
-      }
-    });
-    size_t added = 0;
-    for (const auto& v : found)
-      for (const SizeSource& s : v) {
-        field.addSource(s.p, s.h);
-        ++added;
-      }
-    if (added) {
-      field.build();
-      // again only the edges the new sources reach (grading > 1: a source of size h changes the
-      // field within (hmax - h) / (grading - 1) of it); an edge's discretisation queries the
-      // field on its curve only, within two segments of its nodes' box
-      std::vector<Vec3> at;
-      std::vector<double> reach;
-      for (const auto& v : found)
-        for (const SizeSource& s : v) {
-          at.push_back(s.p);
-          reach.push_back((field.hmax() - s.h) / field.slope());
-        }
-      const SourceReach near(std::move(at), std::move(reach));
-      std::vector<char> redo(ne, 0);
-      for (int e = 0; e < ne; ++e) {
-        if (same.edgeRep[e] != e || degen[e]) continue;
-        if (pts[e].empty()) {  // no nodes to bound it
-          redo[e] = 1;
-          continue;
-        }
-        Box3 b;
-        double seg = 0;
-        for (size_t i = 0; i < pts[e].size(); ++i) {
-          b.add(pts[e][i]);
-          if (i) seg = std::max(seg, dist(pts[e][i - 1], pts[e][i]));
-        }
-        const Vec3 margin{2 * seg, 2 * seg, 2 * seg};
-        redo[e] = near.reaches(b.lo - margin, b.hi + margin);
-      }
-      discretizeAll(&redo);
-    }
-    // An edge closing a strip a few elements wide ends the rows of triangles that grow from the
-    // strip's sides: rows of equilateral triangles are 0.87 h high, so its segments are too
-    // (with segments of h the rows cannot end on its nodes and break up along the strip).
-    parallelFor(ne, threads, [&](int e) {
-      if (pts[e].size() < 2 || !mayRespace(e, degen) || same.edgeRep[e] != e) return;
-      const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
-      if (v0 < 0 || v1 < 0 || v0 == v1) return;
-      const double L = polyLength(e);
-      const double hf = field.size(pts[e][pts[e].size() / 2]);
-      if (!(L > hf) || L > kStripEndMax * hf || !closesStrip(e, L)) return;
-      discretizeOne(e, [&] { ts[e] = discretizeWith(e, [this](Vec3 x) { return kRowHeight * field.size(x); }); });
-    });
-  }
+  if (p.shortEdgeSources && blLaws.empty()) refineShortEdges(ts, degen);
   splitParallelChords(ts, degen);
   // boundary refinements of the discretisation; a kernel failure in one leaves the edges as
   // they were before it (the mesh stays valid, only less well shaped there)
@@ -255,6 +66,56 @@ void MeshContext::discretizeEdges() {
   if (blLaws.empty()) refineStage("corner spacing", [&] { return matchCornerSegments(ts, degen); });
   lastEdges_ = {true, ts, degen, edgeError_};
   createEdgeNodes(ts, degen);
+}
+
+void MeshContext::discretizeOne(int e, std::vector<std::vector<double>>& ts, const std::function<void()>& body) {
+  // an edge the geometry kernel cannot evaluate (a damaged curve) fails alone: it gets no nodes,
+  // the faces bounded by it fail naming it, the others are meshed
+  if (!edgeError_[e].empty()) return;
+  edgeError_[e] = edgeFailure(body);
+  if (!edgeError_[e].empty()) ts[e].clear();
+}
+
+void MeshContext::discretizeAll(std::vector<std::vector<double>>& ts, std::vector<char>& degen,
+                                const std::vector<char>* only) {
+  parallelFor(model.numEdges(), threads, [&](int e) {
+    if (only && !(*only)[e]) return;
+    discretizeOne(e, ts, [&] { discretizeEdge(e, ts, degen); });
+  });
+}
+
+void MeshContext::discretizeEdge(int e, std::vector<std::vector<double>>& ts, std::vector<char>& degen) {
+  progress.poll();
+  double t0, t1;
+  model.edgeRange(e, t0, t1);
+  if (same.edgeRep[e] != e) return;  // meshed through its representative
+  if (model.edgeDegenerate(e)) {
+    degen[e] = 1;
+    ts[e] = {t0, t1};
+    return;
+  }
+  auto c = model.makeCurve(e);
+  const EdgeBLPoints* bp = blEnds.empty() ? nullptr : &blEnds[e];
+  if (bp && (!bp->fromStart.empty() || !bp->fromEnd.empty())) {
+    // boundary-layer points fixed at the ends, the middle discretised as usual
+    const double a = bp->fromStart.empty() ? t0 : bp->fromStart.back();
+    const double b = bp->fromEnd.empty() ? t1 : bp->fromEnd.back();
+    std::vector<double> t{t0};
+    t.insert(t.end(), bp->fromStart.begin(), bp->fromStart.end());
+    CurveSampling cs = sampleCurve(*c, a, b, &field);
+    const std::vector<double> midT = discretizeCurve(cs, field, 1, kPi / 3.0);
+    t.insert(t.end(), midT.begin() + 1, midT.end() - 1);
+    t.insert(t.end(), bp->fromEnd.rbegin(), bp->fromEnd.rend());
+    t.push_back(t1);
+    ts[e] = t;
+    return;
+  }
+  // BL edges keep their spanwise spacing: the layers' own sizes do not refine them
+  const SizeField& f = (!blSpecOf.empty() && blSpecOf[e] >= 0) ? baseField : field;
+  CurveSampling cs = sampleCurve(*c, t0, t1, &f);
+  const int v0 = model.edgeVertex(e, 0), v1 = model.edgeVertex(e, 1);
+  const bool closed = (v0 >= 0 && v0 == v1) || dist(cs.p.front(), cs.p.back()) < 1e-9 * (1 + cs.length());
+  ts[e] = discretizeCurve(cs, f, closed ? 3 : 1, kPi / 3.0);
 }
 
 void MeshContext::reuseEdges() {

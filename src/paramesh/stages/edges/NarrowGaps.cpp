@@ -17,6 +17,71 @@ namespace paramesh {
 
 using namespace tuning;
 
+namespace {
+
+/// Roles of the edges across narrow gaps: an edge leads, follows (its leaders' nodes fixed first)
+/// or is free; the heaviest pairs decide first, and no cycles. order: the followers in
+/// dependency order.
+struct GapRoles {
+  std::vector<std::vector<int>> leaders;
+  std::vector<char> follower, leads;
+  std::vector<int> order;
+};
+
+GapRoles assignRoles(const std::map<std::pair<int, int>, int>& weight, int ne) {
+  GapRoles roles;
+  std::vector<std::vector<int>>& leaders = roles.leaders;
+  std::vector<char>& follower = roles.follower;
+  std::vector<char>& leads = roles.leads;
+  std::vector<std::pair<int, std::pair<int, int>>> pairs;
+  for (const auto& kv : weight) pairs.push_back({kv.second, kv.first});
+  std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  // roles: an edge leads, follows (its leaders' nodes fixed first) or is free; no cycles
+  leaders.assign(ne, {});
+  follower.assign(ne, 0);
+  leads.assign(ne, 0);
+  auto dependsOn = [&](int x0, int target) {  // does x0 (transitively) follow target?
+    std::vector<int> stack{x0};
+    std::vector<char> seen(ne, 0);
+    while (!stack.empty()) {
+      const int x = stack.back();
+      stack.pop_back();
+      if (x == target) return true;
+      if (seen[x]) continue;
+      seen[x] = 1;
+      for (int y : leaders[x]) stack.push_back(y);
+    }
+    return false;
+  };
+  for (const auto& pr : pairs) {
+    int a = pr.second.first, b = pr.second.second;
+    if (follower[a] && follower[b]) continue;
+    if (follower[a] || (leads[b] && !leads[a])) std::swap(a, b);  // b follows a
+    if (dependsOn(a, b)) continue;
+    leaders[b].push_back(a);
+    follower[b] = 1;
+    leads[a] = 1;
+  }
+  std::vector<int>& order = roles.order;
+  std::vector<char> placed(ne, 0);
+  for (bool more = true; more;) {
+    more = false;
+    for (int e = 0; e < ne; ++e) {
+      if (!follower[e] || placed[e]) continue;
+      bool ready = true;
+      for (int a : leaders[e]) ready = ready && (!follower[a] || placed[a]);
+      if (!ready) continue;
+      placed[e] = 1;
+      order.push_back(e);
+      more = true;
+    }
+  }
+  return roles;
+}
+
+}  // namespace
+
+
 std::vector<std::vector<LoopNode>> MeshContext::loopNodes(int f, const std::vector<std::vector<double>>& ts,
                                              const std::vector<char>& degen) const {
   std::vector<std::vector<LoopNode>> loops;
@@ -64,6 +129,36 @@ std::vector<std::vector<LoopNode>> MeshContext::loopNodes(int f, const std::vect
     loops.push_back(std::move(L));
   }
   return loops;
+}
+
+bool MeshContext::staggerAgainstLeaders(int b, const std::vector<int>& leadersOfB, std::vector<std::vector<double>>& ts) {
+  progress.poll();
+  auto cb = model.makeCurve(b);
+  double t0, t1;
+  model.edgeRange(b, t0, t1);
+  const std::vector<Vec3> poly = sampleCurve(*cb, t0, t1, &field).p;
+  double hMax = 0;
+  for (const Vec3& x : poly) hMax = std::max(hMax, field.size(x));
+  const SegmentIndex near_b(poly, hMax);
+  // the leaders' nodes near b, and their neighbours along the leader
+  std::vector<Vec3> near;
+  for (int a : leadersOfB) {
+    auto ca = model.makeCurve(a);
+    std::vector<Vec3> xa;
+    for (double t : ts[a]) xa.push_back(ca->eval(t));
+    std::vector<char> take(xa.size(), 0);
+    for (size_t i = 0; i < xa.size(); ++i)
+      if (near_b.nearest(xa[i], kStaggerTo * field.size(xa[i])) >= 0) {
+        take[i] = 1;
+        if (i > 0) take[i - 1] = 1;
+        if (i + 1 < xa.size()) take[i + 1] = 1;
+      }
+    for (size_t i = 0; i < xa.size(); ++i)
+      if (take[i]) near.push_back(xa[i]);
+  }
+  if (near.size() < 2) return false;
+  ts[b] = staggeredParameters(*cb, t0, t1, near, field, kPi / 3.0);
+  return true;
 }
 
 bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
@@ -132,34 +227,9 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
       return h;
     });
   };
-  std::vector<std::pair<int, std::pair<int, int>>> pairs;
-  for (const auto& kv : weight) pairs.push_back({kv.second, kv.first});
-  std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  // roles: an edge leads, follows (its leaders' nodes fixed first) or is free; no cycles
-  std::vector<std::vector<int>> leaders(ne);
-  std::vector<char> follower(ne, 0), leads(ne, 0);
-  auto dependsOn = [&](int x0, int target) {  // does x0 (transitively) follow target?
-    std::vector<int> stack{x0};
-    std::vector<char> seen(ne, 0);
-    while (!stack.empty()) {
-      const int x = stack.back();
-      stack.pop_back();
-      if (x == target) return true;
-      if (seen[x]) continue;
-      seen[x] = 1;
-      for (int y : leaders[x]) stack.push_back(y);
-    }
-    return false;
-  };
-  for (const auto& pr : pairs) {
-    int a = pr.second.first, b = pr.second.second;
-    if (follower[a] && follower[b]) continue;
-    if (follower[a] || (leads[b] && !leads[a])) std::swap(a, b);  // b follows a
-    if (dependsOn(a, b)) continue;
-    leaders[b].push_back(a);
-    follower[b] = 1;
-    leads[a] = 1;
-  }
+  const GapRoles roles = assignRoles(weight, ne);
+  const std::vector<std::vector<int>>& leaders = roles.leaders;
+  const std::vector<char>&follower = roles.follower, &leads = roles.leads;
   int changed = 0;
   // leaders that follow no one: spacing widened along their gaps
   for (int e = 0; e < ne; ++e) {
@@ -168,49 +238,10 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
     staggered_[e] = 1;
     ++changed;
   }
-  // followers in dependency order, staggered against their leaders' nodes
-  std::vector<int> order;
-  std::vector<char> placed(ne, 0);
-  for (bool more = true; more;) {
-    more = false;
-    for (int e = 0; e < ne; ++e) {
-      if (!follower[e] || placed[e]) continue;
-      bool ready = true;
-      for (int a : leaders[e]) ready = ready && (!follower[a] || placed[a]);
-      if (!ready) continue;
-      placed[e] = 1;
-      order.push_back(e);
-      more = true;
-    }
-  }
   int staggered = 0;
-  for (int b : order) {
-    progress.poll();
-    auto cb = model.makeCurve(b);
-    double t0, t1;
-    model.edgeRange(b, t0, t1);
-    const std::vector<Vec3> poly = sampleCurve(*cb, t0, t1, &field).p;
-    double hMax = 0;
-    for (const Vec3& x : poly) hMax = std::max(hMax, field.size(x));
-    const SegmentIndex near_b(poly, hMax);
-    // the leaders' nodes near b, and their neighbours along the leader
-    std::vector<Vec3> near;
-    for (int a : leaders[b]) {
-      auto ca = model.makeCurve(a);
-      std::vector<Vec3> xa;
-      for (double t : ts[a]) xa.push_back(ca->eval(t));
-      std::vector<char> take(xa.size(), 0);
-      for (size_t i = 0; i < xa.size(); ++i)
-        if (near_b.nearest(xa[i], kStaggerTo * field.size(xa[i])) >= 0) {
-          take[i] = 1;
-          if (i > 0) take[i - 1] = 1;
-          if (i + 1 < xa.size()) take[i + 1] = 1;
-        }
-      for (size_t i = 0; i < xa.size(); ++i)
-        if (take[i]) near.push_back(xa[i]);
-    }
-    if (near.size() < 2) continue;
-    ts[b] = staggeredParameters(*cb, t0, t1, near, field, kPi / 3.0);
+  // followers in dependency order, staggered against their leaders' nodes
+  for (int b : roles.order) {
+    if (!staggerAgainstLeaders(b, leaders[b], ts)) continue;
     staggered_[b] = 1;
     ++staggered;
     ++changed;

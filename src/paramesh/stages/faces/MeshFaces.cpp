@@ -55,21 +55,7 @@ void MeshContext::logStrayPcurves() {
            fmt(model.edgeTolerance(worstEdge)) + ")");
 }
 
-void MeshContext::meshFaces() {
-  Timer tm;
-  const int nf = model.numFaces();
-  strayPcurves_.assign(nf, {});
-  std::vector<FaceMeshResult> results(nf);
-  report.faces.assign(nf, FaceReport());
-  std::atomic<int> done{0};
-  // biggest faces first for load balance: estimate by boundary node count
-  std::vector<int> order(nf);
-  std::iota(order.begin(), order.end(), 0);
-  std::vector<size_t> weight(nf, 0);
-  for (int f = 0; f < nf; ++f)
-    for (const Wire& w : model.faceWires(f))
-      for (const EdgeUse& u : w.uses) weight[f] += edges[u.edge].t.size();
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight[a] > weight[b]; });
+FaceMeshOptions MeshContext::faceOptions() const {
   FaceMeshOptions fo;
   fo.optimizePasses = p.optimizePasses;
   fo.quads = p.quads;
@@ -85,55 +71,78 @@ void MeshContext::meshFaces() {
   fo.minSplitLength = minSizeGiven ? 2.0 * p.minSize : 0.5 * p.minSize;
   fo.minSizeReach = minSizeGiven ? minSizeReach() : 0.0;
   fo.reportOffSurface = p.nearestFaceCheck || p.nearestFaceBudget > 0;
+  return fo;
+}
+
+void MeshContext::meshOneFace(int f, const FaceMeshOptions& fo, FaceMeshResult& result) {
+  progress.poll();
+  Timer ft;
+  FaceReport& fr = report.faces[f];
+  fr.face = f + 1;
+  try {
+    auto s = model.makeSurface(f);
+    fr.surface = toString(s->kind());
+    FaceBoundary fb;
+    std::string why;
+    const int bad = failedEdgeOf(f);
+    if (bad >= 0) {
+      fr.ok = false;
+      const std::string name = "Edge" + std::to_string(bad + 1), &reason = edgeError_[bad];
+      fr.error = "its " + name + " could not be discretised: " +
+                 (reason.rfind(name + ": ", 0) == 0 ? reason.substr(name.size() + 2) : reason);
+    } else if (!buildFaceBoundary(model, edges, mesh, field, f, *s, fb, why)) {
+      fr.ok = false;
+      fr.error = why;
+    } else if (hasBoundaryLayer(f)) {
+      strayPcurves_[f] = fb.strayPcurves;
+      result = meshFaceWithLayers(f, *s, fb, fo);
+      fr.ok = result.ok;
+      fr.error = result.error;
+    } else {
+      strayPcurves_[f] = fb.strayPcurves;
+      FaceMeshOptions zo;  // with the nearest-face check's zones on this face
+      const bool zoned = f < (int)zones_.size() && !zones_[f].empty();
+      if (zoned) {
+        zo = fo;
+        zo.deviationZones = zones_[f];
+      }
+      result = meshFace(*s, fb, field, zoned ? zo : fo, &progress);
+      fr.ok = result.ok;
+      fr.error = result.error;
+      fr.rejectedPoints = result.rejectedPoints;
+    }
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const std::exception& e) {
+    fr.ok = false;
+    fr.error = e.what();
+  } catch (...) {
+    fr.ok = false;
+    fr.error = "geometry kernel exception";
+  }
+  fr.seconds = ft.seconds();
+}
+
+void MeshContext::meshFaces() {
+  Timer tm;
+  const int nf = model.numFaces();
+  strayPcurves_.assign(nf, {});
+  std::vector<FaceMeshResult> results(nf);
+  report.faces.assign(nf, FaceReport());
+  std::atomic<int> done{0};
+  // biggest faces first for load balance: estimate by boundary node count
+  std::vector<int> order(nf);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<size_t> weight(nf, 0);
+  for (int f = 0; f < nf; ++f)
+    for (const Wire& w : model.faceWires(f))
+      for (const EdgeUse& u : w.uses) weight[f] += edges[u.edge].t.size();
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return weight[a] > weight[b]; });
+  const FaceMeshOptions fo = faceOptions();
   const std::vector<char> reused = reusePreviousRound(results);
   parallelFor(nf, threads, [&](int f) {
     if (reused[f]) return;
-    progress.poll();
-    Timer ft;
-    FaceReport& fr = report.faces[f];
-    fr.face = f + 1;
-    try {
-      auto s = model.makeSurface(f);
-      fr.surface = toString(s->kind());
-      FaceBoundary fb;
-      std::string why;
-      const int bad = failedEdgeOf(f);
-      if (bad >= 0) {
-        fr.ok = false;
-        const std::string name = "Edge" + std::to_string(bad + 1), &reason = edgeError_[bad];
-        fr.error = "its " + name + " could not be discretised: " +
-                   (reason.rfind(name + ": ", 0) == 0 ? reason.substr(name.size() + 2) : reason);
-      } else if (!buildFaceBoundary(model, edges, mesh, field, f, *s, fb, why)) {
-        fr.ok = false;
-        fr.error = why;
-      } else if (hasBoundaryLayer(f)) {
-        strayPcurves_[f] = fb.strayPcurves;
-        results[f] = meshFaceWithLayers(f, *s, fb, fo);
-        fr.ok = results[f].ok;
-        fr.error = results[f].error;
-      } else {
-        strayPcurves_[f] = fb.strayPcurves;
-        FaceMeshOptions zo;  // with the nearest-face check's zones on this face
-        const bool zoned = f < (int)zones_.size() && !zones_[f].empty();
-        if (zoned) {
-          zo = fo;
-          zo.deviationZones = zones_[f];
-        }
-        results[f] = meshFace(*s, fb, field, zoned ? zo : fo, &progress);
-        fr.ok = results[f].ok;
-        fr.error = results[f].error;
-        fr.rejectedPoints = results[f].rejectedPoints;
-      }
-    } catch (const Cancelled&) {
-      throw;
-    } catch (const std::exception& e) {
-      fr.ok = false;
-      fr.error = e.what();
-    } catch (...) {
-      fr.ok = false;
-      fr.error = "geometry kernel exception";
-    }
-    fr.seconds = ft.seconds();
+    meshOneFace(f, fo, results[f]);
     const int k = ++done;
     progress.report(0.15 + 0.8 * k / std::max(nf, 1), "faces");
   }, &order);
@@ -141,92 +150,9 @@ void MeshContext::meshFaces() {
   logStrayPcurves();
   // assemble in face order (deterministic)
   Timer ta;
-  for (int f = 0; f < nf; ++f) {
-    FaceMeshResult& r = results[f];
-    FaceReport& fr = report.faces[f];
-    if (!fr.ok) {
-      log.warn("Face" + std::to_string(f + 1) + " failed: " + fr.error);
-      continue;
-    }
-    const int base = (int)mesh.nodes.size();
-    for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
-    triDeviation.resize(mesh.triangles.size() + r.tris.size(), 0.0);
-    for (const auto& od : r.offSurface) {
-      const int t = (int)mesh.triangles.size() + od.first;
-      triDeviation[t] = od.second;
-      // deeper than 4.5 % of the mesh size; faces with boundary layers keep their rows as they are
-      if (r.triLayer.empty() && od.second > kOffSurfaceCandidate * std::min(p.size, p.maxSize))
-        offSurface.push_back({t, od.second});
-    }
-    const bool rev = model.faceReversed(f);
-    for (size_t k = 0; k < r.tris.size(); ++k) {
-      auto t = r.tris[k];
-      auto uv = r.triUv[k];
-      for (int& v : t)
-        if (v < 0) v = base + (-v - 1);
-      if (rev) {
-        std::swap(t[1], t[2]);
-        std::swap(uv[1], uv[2]);
-      }
-      mesh.triangles.push_back(t);
-      mesh.triangleFace.push_back(f + 1);
-      mesh.triangleLayer.push_back(k < r.triLayer.size() ? r.triLayer[k] : 0);
-      triUv.push_back(uv);
-    }
-    for (size_t k = 0; k < r.quads.size(); ++k) {
-      auto q = r.quads[k];
-      auto uv = r.quadUv[k];
-      for (int& v : q)
-        if (v < 0) v = base + (-v - 1);
-      if (rev) {
-        std::swap(q[1], q[3]);
-        std::swap(uv[1], uv[3]);
-      }
-      mesh.quads.push_back(q);
-      mesh.quadFace.push_back(f + 1);
-      mesh.quadLayer.push_back(k < r.quadLayer.size() ? r.quadLayer[k] : 0);
-      quadUv.push_back(uv);
-    }
-    fr.triangles = (int)r.tris.size();
-    fr.quads = (int)r.quads.size();
-    fr.nodes = (int)r.newXyz.size();
-    fr.overDeviation = (int)r.deviationMisses.size();
-    fr.crestSegments = r.crestSegments;
-    fr.crestRowSegments = r.crestRowSegments;
-    fr.overDeviationWorst = 0;
-    fr.overDeviationRadius = std::numeric_limits<double>::infinity();
-    fr.overDeviationResolvable = 0;
-    const double reach = minSizeReach();
-    for (const FaceMeshResult::DeviationMiss& m : r.deviationMisses) {
-      if (reach > 0 && m.radius >= reach) ++fr.overDeviationResolvable;
-      const double x = m.deviation / m.allowed;
-      if (x > fr.overDeviationWorst) {
-        fr.overDeviationWorst = x;
-        fr.overDeviationAt[0] = m.at.x;
-        fr.overDeviationAt[1] = m.at.y;
-        fr.overDeviationAt[2] = m.at.z;
-      }
-      fr.overDeviationRadius = std::min(fr.overDeviationRadius, m.radius);
-    }
-  }
+  for (int f = 0; f < nf; ++f) assembleFace(f, results[f]);
   stage("assemble", ta.seconds());
-  if (fo.reportOffSurface && blLaws.empty()) {  // kept for the next round of the nearest-face check
-    auto prev = std::make_unique<PreviousRound>();
-    prev->points.assign(nf, {});
-    std::vector<int> seen(mesh.nodes.size(), -1);
-    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const int f = mesh.triangleFace[t] - 1;
-      for (int v : mesh.triangles[t])
-        if (seen[v] != f) {
-          seen[v] = f;
-          prev->points[f].push_back(mesh.nodes[v]);
-        }
-    }
-    prev->results = std::move(results);
-    prev->reports = report.faces;
-    prev->edges = edges;
-    previous_ = std::move(prev);
-  }
+  if (fo.reportOffSurface && blLaws.empty()) keepForNextRound(std::move(results));
 }
 
 std::vector<char> MeshContext::reusePreviousRound(std::vector<FaceMeshResult>& results) {
