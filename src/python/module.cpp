@@ -130,11 +130,8 @@ class PyMesher {
   Mesher* active_ = nullptr;
 };
 
-}  // namespace
-
-PYBIND11_MODULE(_native, mod) {
-  mod.doc() = "ParaMesh native core (C++). Use freecad.paramesh, not this module directly.";
-
+/// The exception types (ParaMeshError and its subclasses) and their translator.
+void bindErrors(py::module_& mod) {
   static py::exception<Error> exBase(mod, "ParaMeshError", PyExc_RuntimeError);
   // both a ParaMeshError (catch everything of ours) and a ValueError (the caller's input is wrong)
   static py::exception<ParameterError> exParam(mod, "ParameterError",
@@ -154,7 +151,10 @@ PYBIND11_MODULE(_native, mod) {
       exBase(e.what());
     }
   });
+}
 
+/// MeshParams and its parts (LocalSize, BoundaryLayerSpec).
+void bindParams(py::module_& mod) {
   py::class_<LocalSize> ls(mod, "LocalSize");
   py::enum_<LocalSize::Kind>(ls, "Kind")
       .value("Face", LocalSize::Kind::Face)
@@ -195,7 +195,10 @@ PYBIND11_MODULE(_native, mod) {
       .def_readwrite("local_sizes", &MeshParams::localSizes)
       .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)
       .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");
+}
 
+/// The CAD model: loading, topology queries.
+void bindModel(py::module_& mod) {
   py::class_<PyModel>(mod, "Model")
       .def_static(
           "from_file",
@@ -251,7 +254,10 @@ PYBIND11_MODULE(_native, mod) {
             return f;
           },
           py::arg("edge"), "1-based faces using a 1-based edge.");
+}
 
+/// The meshing result: numpy views, report, writers, rendering.
+void bindResult(py::module_& mod) {
   py::class_<PyResult, std::shared_ptr<PyResult>>(mod, "Result")
       .def_property_readonly("nodes", [](const PyResult& r) { return vec3Array(r.mesh.nodes); }, "(N, 3) float64")
       .def_property_readonly("triangles", [](const PyResult& r) { return intArray(r.mesh.triangles); },
@@ -316,11 +322,26 @@ PYBIND11_MODULE(_native, mod) {
           py::arg("path"), py::arg("width") = 1600, py::arg("height") = 1200, py::arg("azimuth") = 35.0,
           py::arg("elevation") = 25.0, py::arg("color") = "face", py::arg("focus") = std::vector<double>{},
           "Renders the mesh to a PNG (software rasteriser).");
+}
 
+/// The mesher (runs with the GIL released; cancellable).
+void bindMesher(py::module_& mod) {
   py::class_<PyMesher>(mod, "Mesher")
       .def(py::init<PyModel, MeshParams>(), py::arg("model"), py::arg("params"))
       .def("run", &PyMesher::run, py::arg("progress") = py::none(), py::arg("log") = py::none(),
            "Meshes (GIL released). progress(fraction, stage) may return False to cancel; "
            "log(level, message). Returns a Result.")
       .def("cancel", &PyMesher::cancel, "Requests cancellation (thread-safe).");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_native, mod) {
+  mod.doc() = "ParaMesh native core (C++). Use freecad.paramesh, not this module directly.";
+
+  bindErrors(mod);
+  bindParams(mod);
+  bindModel(mod);
+  bindResult(mod);
+  bindMesher(mod);
 }

@@ -324,130 +324,167 @@ int embedCrests(Triangulation& T, const SurfaceContext& C, const std::vector<std
   return segments;
 }
 
+namespace {
+
+// A walk across the crest from one of its vertices, on the surface: samples in steps a small
+// share of the local radius, with their arc length from the crest.
+struct Walk {
+  std::vector<Vec2> s;
+  std::vector<Vec3> x;
+  std::vector<double> arc;
+  double spacing = 0;
+  bool active = true;
+};
+// the point at arc length a (interpolated in (u,v) between samples; the caller evaluates it)
+bool pointAt(const Walk& w, double a, Vec2& s, Vec3& x) {
+  if (w.arc.empty() || a > w.arc.back()) return false;
+  const size_t i = std::upper_bound(w.arc.begin(), w.arc.end(), a) - w.arc.begin();
+  if (i == 0) {
+    s = w.s[0], x = w.x[0];
+    return true;
+  }
+  if (i >= w.arc.size()) {
+    s = w.s.back(), x = w.x.back();
+    return true;
+  }
+  const double f = (a - w.arc[i - 1]) / std::max(w.arc[i] - w.arc[i - 1], 1e-300);
+  s = w.s[i - 1] + f * (w.s[i] - w.s[i - 1]);
+  x = w.x[i - 1] + f * (w.x[i] - w.x[i - 1]);
+  return true;
+}
+// how far the samples strictly between arc a0 (the point x0) and sample i sag from the chord
+double sagTo(const Walk& w, double a0, Vec3 x0, size_t i) {
+  double m = 0;
+  for (size_t k = 0; k < i; ++k)
+    if (w.arc[k] > a0) m = std::max(m, segmentDistance(w.x[k], x0, w.x[i]));
+  return m;
+}
+
+/// The walks across the crest line from each of its vertices, on one side.
+std::vector<Walk> walkAcross(const Triangulation& T, const SurfaceContext& C, const std::vector<int>& line, int side) {
+  const int n = (int)line.size();
+  std::vector<Walk> walks(n);
+  for (int j = 0; j < n; ++j) {
+    Walk& w = walks[j];
+    const TriVertex& V = T.verts[line[j]];
+    const Vec3 tangent = normalized(T.verts[line[std::min(j + 1, n - 1)]].xyz - T.verts[line[std::max(j - 1, 0)]].xyz);
+    int m = 0;
+    if (j > 0) w.spacing += dist(V.xyz, T.verts[line[j - 1]].xyz), ++m;
+    if (j + 1 < n) w.spacing += dist(V.xyz, T.verts[line[j + 1]].xyz), ++m;
+    w.spacing /= std::max(m, 1);
+    Vec2 s = V.uv;
+    Frame f = frameAt(C, s);
+    if (!f.ok) continue;
+    w.s.push_back(s), w.x.push_back(f.x), w.arc.push_back(0);
+    for (int step = 0; step < 2100 && w.arc.back() <= 2 * w.spacing; ++step) {
+      Vec3 across = normalized(cross(f.n, tangent));
+      if (side) across = -1.0 * across;
+      const double len = std::clamp(0.05 / std::max(f.k, 1e-300), w.spacing / 1000, w.spacing / 32);
+      const Vec2 q = s + len * Tracer::normalizedUV(f, across);
+      if (!C.inDomain(q)) break;
+      const Frame fq = frameAt(C, q);
+      if (!fq.ok) break;
+      w.s.push_back(q), w.x.push_back(fq.x), w.arc.push_back(w.arc.back() + dist(fq.x, f.x));
+      s = q;
+      f = fq;
+    }
+  }
+  return walks;
+}
+
+std::vector<std::vector<std::pair<bool, Vec2>>> rowRanks(std::vector<Walk>& walks, const CrestOptions& o,
+                                                         const std::vector<std::pair<Vec3, Vec3>>& bnd) {
+  const int n = (int)walks.size();
+  // One sequence of row distances (arc lengths across) for the whole line, so that the rows
+  // run parallel to the crest as a boundary layer's do, each cell between two rows a quad of
+  // one width. From each distance, a station still needs rows unless a chord of the spacing
+  // from there sags less than the isotropic mesh's triangles may; the next distance is the
+  // nearest any such station's flank allows (its chord sagging no more than a row may),
+  // grown by at most CrestOptions::rowGrowth over the last row's width.
+  std::vector<std::vector<std::pair<bool, Vec2>>> ranks;
+  double d = 0, width = 0;
+  for (int rank = 0; rank < o.maxRows; ++rank) {
+    double next = std::numeric_limits<double>::infinity();
+    for (Walk& w : walks) {
+      if (!w.active || w.arc.empty()) {
+        w.active = false;
+        continue;
+      }
+      // the first sample a spacing away from the point at d
+      Vec2 s0;
+      Vec3 x0;
+      if (!pointAt(w, d, s0, x0)) {
+        w.active = false;
+        continue;
+      }
+      size_t end = 0;
+      while (end < w.arc.size() && (w.arc[end] <= d || dist(w.x[end], x0) < w.spacing)) ++end;
+      if (end >= w.arc.size() || sagTo(w, d, x0, end) <= o.rowStopSag * w.spacing) {
+        w.active = false;  // resolved from here (or the walk ended: the boundary is near)
+        continue;
+      }
+      // the farthest sample before `end` whose chord sags no more than a row may (the sag
+      // grows with the chord: bisection; at `end` it exceeds the stop's, a row's bound)
+      size_t lo = 0;
+      while (lo + 1 < end && w.arc[lo + 1] <= d) ++lo;
+      if (w.arc[lo] <= d) ++lo;  // the first sample past d: nothing between them sags
+      size_t hi = end;
+      while (hi - lo > 1) {
+        const size_t mid = (lo + hi) / 2;
+        (sagTo(w, d, x0, mid) <= o.rowSag * w.spacing ? lo : hi) = mid;
+      }
+      next = std::min(next, w.arc[lo]);
+    }
+    if (!std::isfinite(next)) break;
+    if (width > 0) next = std::min(next, d + o.rowGrowth * width);
+    width = next - d;
+    d = next;
+
+    ranks.emplace_back(n, std::pair<bool, Vec2>{false, Vec2{0, 0}});
+    for (int j = 0; j < n; ++j) {
+      Walk& w = walks[j];
+      Vec2 s;
+      Vec3 x;
+      if (!w.active || !pointAt(w, d, s, x) || nearAny(bnd, x, 0.25 * w.spacing)) {
+        w.active = false;
+        continue;
+      }
+      ranks.back()[j] = {true, s};
+    }
+  }
+  return ranks;
+}
+
+/// Between two rows nothing else will be inserted, so their diagonals are final: flipped to
+/// Delaunay in the surface's metric (see embedCrestRows).
+void flipRowDiagonals(Triangulation& T) {
+  auto fixed = [&T](int v) { return (T.verts[v].flags & (VF_ROW | VF_CREST)) != 0; };
+  for (int pass = 0; pass < 100; ++pass) {
+    int flips = 0;
+    for (int t = 0; t < (int)T.tris.size(); ++t) {
+      for (int i = 0; i < 3; ++i) {
+        const Triangle& tr = T.tris[t];
+        if (tr.dead || tr.n[i] < 0 || T.isConstrained(t, i)) continue;
+        if (!fixed(tr.v[(i + 1) % 3]) || !fixed(tr.v[(i + 2) % 3])) continue;
+        if (T.metricFlip(t, i) && T.flip(t, i)) ++flips;
+      }
+    }
+    if (flips == 0) break;
+  }
+}
+
+}  // namespace
+
 int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<std::vector<int>>& crests,
                    const CrestOptions& o) {
   // the face's boundary, which no row point may come near
   const std::vector<std::pair<Vec3, Vec3>> bnd = boundarySegments(T);
-  // A walk across the crest from one of its vertices, on the surface: samples in steps a small
-  // share of the local radius, with their arc length from the crest.
-  struct Walk {
-    std::vector<Vec2> s;
-    std::vector<Vec3> x;
-    std::vector<double> arc;
-    double spacing = 0;
-    bool active = true;
-  };
-  // the point at arc length a (interpolated in (u,v) between samples; the caller evaluates it)
-  auto pointAt = [](const Walk& w, double a, Vec2& s, Vec3& x) {
-    if (w.arc.empty() || a > w.arc.back()) return false;
-    const size_t i = std::upper_bound(w.arc.begin(), w.arc.end(), a) - w.arc.begin();
-    if (i == 0) {
-      s = w.s[0], x = w.x[0];
-      return true;
-    }
-    if (i >= w.arc.size()) {
-      s = w.s.back(), x = w.x.back();
-      return true;
-    }
-    const double f = (a - w.arc[i - 1]) / std::max(w.arc[i] - w.arc[i - 1], 1e-300);
-    s = w.s[i - 1] + f * (w.s[i] - w.s[i - 1]);
-    x = w.x[i - 1] + f * (w.x[i] - w.x[i - 1]);
-    return true;
-  };
-  // how far the samples strictly between arc a0 (the point x0) and sample i sag from the chord
-  auto sagTo = [](const Walk& w, double a0, Vec3 x0, size_t i) {
-    double m = 0;
-    for (size_t k = 0; k < i; ++k)
-      if (w.arc[k] > a0) m = std::max(m, segmentDistance(w.x[k], x0, w.x[i]));
-    return m;
-  };
   std::vector<std::vector<Vec2>> rows;
   for (const std::vector<int>& line : crests) {
     const int n = (int)line.size();
     for (int side = 0; side < 2; ++side) {
-      std::vector<Walk> walks(n);
-      for (int j = 0; j < n; ++j) {
-        Walk& w = walks[j];
-        const TriVertex& V = T.verts[line[j]];
-        const Vec3 tangent = normalized(T.verts[line[std::min(j + 1, n - 1)]].xyz - T.verts[line[std::max(j - 1, 0)]].xyz);
-        int m = 0;
-        if (j > 0) w.spacing += dist(V.xyz, T.verts[line[j - 1]].xyz), ++m;
-        if (j + 1 < n) w.spacing += dist(V.xyz, T.verts[line[j + 1]].xyz), ++m;
-        w.spacing /= std::max(m, 1);
-        Vec2 s = V.uv;
-        Frame f = frameAt(C, s);
-        if (!f.ok) continue;
-        w.s.push_back(s), w.x.push_back(f.x), w.arc.push_back(0);
-        for (int step = 0; step < 2100 && w.arc.back() <= 2 * w.spacing; ++step) {
-          Vec3 across = normalized(cross(f.n, tangent));
-          if (side) across = -1.0 * across;
-          const double len = std::clamp(0.05 / std::max(f.k, 1e-300), w.spacing / 1000, w.spacing / 32);
-          const Vec2 q = s + len * Tracer::normalizedUV(f, across);
-          if (!C.inDomain(q)) break;
-          const Frame fq = frameAt(C, q);
-          if (!fq.ok) break;
-          w.s.push_back(q), w.x.push_back(fq.x), w.arc.push_back(w.arc.back() + dist(fq.x, f.x));
-          s = q;
-          f = fq;
-        }
-      }
-      // One sequence of row distances (arc lengths across) for the whole line, so that the rows
-      // run parallel to the crest as a boundary layer's do, each cell between two rows a quad of
-      // one width. From each distance, a station still needs rows unless a chord of the spacing
-      // from there sags less than the isotropic mesh's triangles may; the next distance is the
-      // nearest any such station's flank allows (its chord sagging no more than a row may),
-      // grown by at most CrestOptions::rowGrowth over the last row's width.
-      std::vector<std::vector<std::pair<bool, Vec2>>> ranks;
-      double d = 0, width = 0;
-      for (int rank = 0; rank < o.maxRows; ++rank) {
-        double next = std::numeric_limits<double>::infinity();
-        for (Walk& w : walks) {
-          if (!w.active || w.arc.empty()) {
-            w.active = false;
-            continue;
-          }
-          // the first sample a spacing away from the point at d
-          Vec2 s0;
-          Vec3 x0;
-          if (!pointAt(w, d, s0, x0)) {
-            w.active = false;
-            continue;
-          }
-          size_t end = 0;
-          while (end < w.arc.size() && (w.arc[end] <= d || dist(w.x[end], x0) < w.spacing)) ++end;
-          if (end >= w.arc.size() || sagTo(w, d, x0, end) <= o.rowStopSag * w.spacing) {
-            w.active = false;  // resolved from here (or the walk ended: the boundary is near)
-            continue;
-          }
-          // the farthest sample before `end` whose chord sags no more than a row may (the sag
-          // grows with the chord: bisection; at `end` it exceeds the stop's, a row's bound)
-          size_t lo = 0;
-          while (lo + 1 < end && w.arc[lo + 1] <= d) ++lo;
-          if (w.arc[lo] <= d) ++lo;  // the first sample past d: nothing between them sags
-          size_t hi = end;
-          while (hi - lo > 1) {
-            const size_t mid = (lo + hi) / 2;
-            (sagTo(w, d, x0, mid) <= o.rowSag * w.spacing ? lo : hi) = mid;
-          }
-          next = std::min(next, w.arc[lo]);
-        }
-        if (!std::isfinite(next)) break;
-        if (width > 0) next = std::min(next, d + o.rowGrowth * width);
-        width = next - d;
-        d = next;
-
-        ranks.emplace_back(n, std::pair<bool, Vec2>{false, Vec2{0, 0}});
-        for (int j = 0; j < n; ++j) {
-          Walk& w = walks[j];
-          Vec2 s;
-          Vec3 x;
-          if (!w.active || !pointAt(w, d, s, x) || nearAny(bnd, x, 0.25 * w.spacing)) {
-            w.active = false;
-            continue;
-          }
-          ranks.back()[j] = {true, s};
-        }
-      }
+      std::vector<Walk> walks = walkAcross(T, C, line, side);
+      const std::vector<std::vector<std::pair<bool, Vec2>>> ranks = rowRanks(walks, o, bnd);
       // the row points of one rank at consecutive crest vertices form a polyline
       for (const auto& rank : ranks) {
         std::vector<Vec2> cur;
@@ -473,21 +510,7 @@ int embedCrestRows(Triangulation& T, const SurfaceContext& C, const std::vector<
   // the crest, whose spacing is 0.027: the (u,v)-nearest point across is 18 spacings along, and
   // the strip became fans of caps). Flipped to Delaunay in the surface's metric, they join the
   // points across from each other.
-  if (segments > 0) {
-    auto fixed = [&T](int v) { return (T.verts[v].flags & (VF_ROW | VF_CREST)) != 0; };
-    for (int pass = 0; pass < 100; ++pass) {
-      int flips = 0;
-      for (int t = 0; t < (int)T.tris.size(); ++t) {
-        for (int i = 0; i < 3; ++i) {
-          const Triangle& tr = T.tris[t];
-          if (tr.dead || tr.n[i] < 0 || T.isConstrained(t, i)) continue;
-          if (!fixed(tr.v[(i + 1) % 3]) || !fixed(tr.v[(i + 2) % 3])) continue;
-          if (T.metricFlip(t, i) && T.flip(t, i)) ++flips;
-        }
-      }
-      if (flips == 0) break;
-    }
-  }
+  if (segments > 0) flipRowDiagonals(T);
   return segments;
 }
 

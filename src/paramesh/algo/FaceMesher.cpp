@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "paramesh/algo/Crest.hpp"
+#include "paramesh/algo/optimizer/FaceSchedule.hpp"
 #include "paramesh/algo/optimizer/Optimizer.hpp"
 #include "paramesh/algo/Predicates.hpp"
 #include "paramesh/algo/Recombine.hpp"
@@ -21,21 +22,10 @@
 namespace paramesh {
 namespace {
 
-constexpr int kSliverRounds = 1;
-constexpr bool kPerCandidate = true;
-constexpr double kPerCandidateBudget = 1e6;  // candidates x face triangles
 // frontal points: the distance from the front edge is taken at this blend of the front's size
 // (the triangle's vertices) and the size field at the predicted point (graded zones: the front is
 // the smaller side, so points sized by it alone come out too near)
 constexpr double kPointSizeBlend = 0.5;
-// valence flips after the first optimisation: rounds (the second finds 5-10 % more flips, next to
-// the first round's, and its settling lifts small-edges-01 d/100 by about 3e-4), and the least
-// share of the pair's worst radius ratio a flip may keep (the smoothing after it restores shapes)
-constexpr int kValenceRounds = 2;
-constexpr double kValenceQuality = 0.5;
-// passes of the radius-ratio polish at the end (the second one revisits the neighbours of the
-// vertices the first moved)
-constexpr int kPolishPasses = 2;
 inline int nx(int i) { return i == 2 ? 0 : i + 1; }
 inline int pv(int i) { return i == 0 ? 2 : i - 1; }
 
@@ -368,6 +358,63 @@ int refineFolded(Triangulation& T, const SurfaceContext& C) {
   return inserted;
 }
 
+/// The face's elements in FaceMeshResult form: new nodes, references to the boundary's nodes,
+/// triangles (or recombined quads), and the triangles lying off the surface.
+void emitFace(const Triangulation& T, const SurfaceContext& C, Optimizer& O, const FaceBoundary& boundary,
+              const FaceMeshOptions& opt, FaceMeshResult& res) {
+  std::vector<int> ref(T.verts.size());
+  for (size_t v = 0; v < T.verts.size(); ++v) {
+    const TriVertex& V = T.verts[v];
+    if (V.node >= 0 || (V.flags & VF_BOUNDARY)) {
+      ref[v] = V.node;  // global node, or a face-local boundary-layer node (< 0)
+    } else {
+      res.newXyz.push_back(V.xyz);
+      res.newUv.push_back(C.toParam(V.uv));
+      ref[v] = -(opt.localNodeOffset + (int)res.newXyz.size());
+    }
+  }
+  std::vector<char> paired(T.tris.size(), 0);
+  if (opt.quads) {
+    for (const QuadPair& qp : recombine(T, 150.0)) {
+      paired[qp.t] = paired[qp.u] = 1;
+      std::array<int, 4> r{ref[qp.quad[0]], ref[qp.quad[1]], ref[qp.quad[2]], ref[qp.quad[3]]};
+      res.quads.push_back(r);
+      res.quadUv.push_back({C.toParam(T.verts[qp.quad[0]].uv), C.toParam(T.verts[qp.quad[1]].uv),
+                            C.toParam(T.verts[qp.quad[2]].uv), C.toParam(T.verts[qp.quad[3]].uv)});
+    }
+  }
+  // distance to the face's boundary loops in 3D: the distance to the trimmed face of a point
+  // whose projection's foot falls outside the face
+  auto rimDistance = [&](Vec3 x) {
+    double best = 1e300;
+    for (const auto& loop : boundary.loops)
+      for (size_t i = 0; i < loop.size(); ++i)
+        best = std::min(best, dist(x, closestOnSegment(x, loop[i].xyz, loop[(i + 1) % loop.size()].xyz)));
+    return best;
+  };
+  for (size_t ti = 0; ti < T.tris.size(); ++ti) {
+    const Triangle& tr = T.tris[ti];
+    if (tr.dead || paired[ti]) continue;
+    std::array<int, 3> r{ref[tr.v[0]], ref[tr.v[1]], ref[tr.v[2]]};
+    if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
+      ++res.degenerateDropped;
+      continue;
+    }
+    res.tris.push_back(r);
+    res.triUv.push_back({C.toParam(T.verts[tr.v[0]].uv), C.toParam(T.verts[tr.v[1]].uv), C.toParam(T.verts[tr.v[2]].uv)});
+    if (opt.reportOffSurface && !C.planar) {
+      const Vec3 &A = T.verts[tr.v[0]].xyz, &B = T.verts[tr.v[1]].xyz, &D = T.verts[tr.v[2]].xyz;
+      const double L = (dist(A, B) + dist(B, D) + dist(D, A)) / 3.0;
+      if (O.deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) > 0.01 * L) {
+        bool footOutside = false;
+        double d = O.deviation(tr.v[0], tr.v[1], tr.v[2], &footOutside);
+        if (d > 0.02 * L && footOutside) d = std::max(d, rimDistance((1.0 / 3) * (A + B + D)));
+        if (d > 0.02 * L) res.offSurface.push_back({(int)res.tris.size() - 1, d});
+      }
+    }
+  }
+}
+
 }  // namespace
 
 FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, const SizeField& size,
@@ -443,133 +490,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
     refineFolded(T, C);
     Optimizer O(T, C, progress);
     O.setMinSizeReach(opt.minSizeReach);
-    O.run(opt.optimizePasses);
-    // the nearest-face check's local bounds and the user's --max-deviation first, so that the
-    // repairs below (which keep every bound) clean up after their splits. Left to the end, as
-    // until stop 32, the max-deviation splits were followed by one smoothing and one swap pass
-    // only: a unit sphere at --max-deviation 0.001 had mean gamma 0.836 (0.937 now); the
-    // 15 models at 0.001: boxed_sphere 0.9652 -> 0.9771, < 30 deg 0.581 -> 0.049 %, bottle
-    // 0.9792 -> 0.9827, 0.277 -> 0.049 %, the rest within 0.001 (docs/size_control.md). The
-    // curvature angle's relative bound stays at the end: its crest and fold handling was
-    // measured that way (issue 2's fidelity runs).
-    if ((!opt.deviationZones.empty() || opt.maxDeviation > 0) &&
-        O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength, &opt.deviationZones) > 0) {
-      O.smoothPass();
-      O.swapPass();
-    }
-    // valences towards regular (graded zones: triangles around 5- and 7-valent vertices were
-    // most of the radius-ratio deficit). The flips are settled by smoothing and swaps within one
-    // edge ring of them only: over the whole face, settling took about a quarter of the face
-    // meshing time (bottle d/200) for 3e-4 more mean radius ratio on small-edges-01 d/100.
-    if (opt.optimizePasses > 0) {
-      std::vector<int> flipped;
-      for (int k = 0; k < kValenceRounds; ++k) {
-        flipped.clear();
-        if (O.valenceSwapPass(kValenceQuality, &flipped) == 0) break;
-        O.setRegion(O.regionAround(flipped, 1));  // the next round looks there too, and only there
-        O.smoothPass();
-        O.swapPass();
-        O.smoothPass();
-      }
-      O.setRegion({});
-    }
-    // Triangles with an angle below 30 degrees that the optimiser left: slivers standing on
-    // boundary nodes (narrow parts of the face, next to short segments) and caps whose free apex
-    // sits almost on the opposite edge. Three variants from the same start: split the longest
-    // free edge of the poor triangles on three boundary nodes, or on two, or collapse the free
-    // apex of the poor triangles; each is re-optimised, and the one leaving the fewest poor
-    // triangles is kept only if it has fewer than before.
-    int repaired = 0;
-    // The trials are local: swaps, smoothing and the count of poor triangles run over two edge
-    // rings around the candidates (Optimizer::setRegion), so a repair costs O(region).
-    for (int round = 0; opt.sliverPass && opt.optimizePasses > 0 && round < kSliverRounds; ++round) {
-      const int total = O.countPoorAngles();
-      if (total == 0) break;
-      std::vector<int> poorTris;
-      for (int t = 0; t < (int)T.tris.size(); ++t)
-        if (!T.tris[t].dead && O.poorAngle(t)) poorTris.push_back(t);
-      const std::vector<char> region = O.regionAround(poorTris, 2);
-      const Triangulation start = T;
-      Triangulation kept;
-      int best = total;
-      bool improved = false;
-      for (int variant : {3, 2, 0}) {
-        if (variant != 3) T = start;
-        O.setRegion(region);
-        if ((variant > 0 ? O.splitBoundarySlivers(variant) : O.collapsePoorApexes()) == 0) continue;
-        O.swapPass();
-        O.smoothPass();
-        O.swapPass();
-        const int c = total + O.countPoorAngles() - Optimizer::countPoorAngles(start, O.region());
-        if (c < best) {
-          best = c;
-          kept = T;
-          improved = true;
-        }
-      }
-      O.setRegion({});
-      T = improved ? std::move(kept) : start;
-      if (!improved) break;
-      ++repaired;
-    }
-    // What the batches left, one triangle at a time (faces small enough for a copy of the face
-    // per trial): split, collapse, relocate or flip, kept when the poor triangles around drop.
-    if (opt.sliverPass && opt.optimizePasses > 0 && kPerCandidate) {
-      std::vector<int> cands;
-      for (int t = 0; t < (int)T.tris.size(); ++t)
-        if (!T.tris[t].dead && O.poorAngle(t)) cands.push_back(t);
-      if (!cands.empty() && (double)cands.size() * (double)T.tris.size() <= kPerCandidateBudget) {
-        for (int t : cands) {
-          if (T.tris[t].dead || !O.poorAngle(t)) continue;
-          const std::vector<char> region = O.regionAround({t}, 2);
-          for (int action = 0; action < 4; ++action) {
-            Triangulation backup = T;
-            O.setRegion(region);
-            const bool done = action == 0 ? O.splitLongestFree(t) >= 0
-                              : action == 1 ? O.collapseApex(t)
-                              : action == 2 ? O.relocateForAngles(t)
-                                            : O.flipForAngles(t);
-            if (!done) {
-              O.setRegion({});
-              continue;
-            }
-            // after a flip, smoothing first: a swap pass would undo it
-            if (action == 3) O.smoothPass();
-            O.swapPass();
-            O.smoothPass();
-            O.swapPass();
-            const bool better = O.countPoorAngles() < Optimizer::countPoorAngles(backup, O.region());
-            O.setRegion({});
-            if (better) {
-              ++repaired;
-              break;
-            }
-            T = std::move(backup);
-          }
-        }
-      }
-    }
-    // the repairs were local: one more pass over the whole face lets their surroundings settle
-    if (repaired > 0) {
-      O.swapPass();
-      O.smoothPass();
-      O.swapPass();
-    }
-    // size conformity last: vertices with an edge out of the unit band move where fewer are
-    if (opt.optimizePasses > 0) O.lengthPass();
-    // then the summed radius ratio, keeping the worst triangles, the angles and the size band;
-    // only around irregular valences (time: there lay 78 % of the gain on small-edges-01 d/100,
-    // against 30 % of the moves on bottle d/200)
-    if (opt.optimizePasses > 0) {
-      std::vector<char> active = O.irregularZone();
-      for (int k = 0; k < kPolishPasses; ++k)
-        if (O.polishPass(active) == 0) break;
-    }
-    if ((opt.maxDeviation > 0 || opt.maxDeviationRatio > 0 || !opt.deviationZones.empty()) &&
-        O.refineDeviation(opt.maxDeviation, opt.maxDeviationRatio, opt.minSplitLength, &opt.deviationZones) > 0) {
-      O.smoothPass();
-      O.swapPass();
-    }
+    optimizeFace(O, T, opt);
     for (const Optimizer::DeviationMiss& m : O.deviationMisses()) {
       // the surface's sharpest curvature under the triangle: at its corners, its edges' (u,v)
       // midpoints and its centroid's foot (across a crest the foot can lie on a flank)
@@ -581,58 +502,7 @@ FaceMeshResult meshFace(const ISurface& surf, const FaceBoundary& boundary, cons
       res.deviationMisses.push_back({m.centroid, m.deviation, m.allowed, k > 0 ? 1.0 / k : std::numeric_limits<double>::infinity()});
     }
     T.compact();
-    // output
-    std::vector<int> ref(T.verts.size());
-    for (size_t v = 0; v < T.verts.size(); ++v) {
-      const TriVertex& V = T.verts[v];
-      if (V.node >= 0 || (V.flags & VF_BOUNDARY)) {
-        ref[v] = V.node;  // global node, or a face-local boundary-layer node (< 0)
-      } else {
-        res.newXyz.push_back(V.xyz);
-        res.newUv.push_back(C.toParam(V.uv));
-        ref[v] = -(opt.localNodeOffset + (int)res.newXyz.size());
-      }
-    }
-    std::vector<char> paired(T.tris.size(), 0);
-    if (opt.quads) {
-      for (const QuadPair& qp : recombine(T, 150.0)) {
-        paired[qp.t] = paired[qp.u] = 1;
-        std::array<int, 4> r{ref[qp.quad[0]], ref[qp.quad[1]], ref[qp.quad[2]], ref[qp.quad[3]]};
-        res.quads.push_back(r);
-        res.quadUv.push_back({C.toParam(T.verts[qp.quad[0]].uv), C.toParam(T.verts[qp.quad[1]].uv),
-                              C.toParam(T.verts[qp.quad[2]].uv), C.toParam(T.verts[qp.quad[3]].uv)});
-      }
-    }
-    // distance to the face's boundary loops in 3D: the distance to the trimmed face of a point
-    // whose projection's foot falls outside the face
-    auto rimDistance = [&](Vec3 x) {
-      double best = 1e300;
-      for (const auto& loop : boundary.loops)
-        for (size_t i = 0; i < loop.size(); ++i)
-          best = std::min(best, dist(x, closestOnSegment(x, loop[i].xyz, loop[(i + 1) % loop.size()].xyz)));
-      return best;
-    };
-    for (size_t ti = 0; ti < T.tris.size(); ++ti) {
-      const Triangle& tr = T.tris[ti];
-      if (tr.dead || paired[ti]) continue;
-      std::array<int, 3> r{ref[tr.v[0]], ref[tr.v[1]], ref[tr.v[2]]};
-      if (r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) {
-        ++res.degenerateDropped;
-        continue;
-      }
-      res.tris.push_back(r);
-      res.triUv.push_back({C.toParam(T.verts[tr.v[0]].uv), C.toParam(T.verts[tr.v[1]].uv), C.toParam(T.verts[tr.v[2]].uv)});
-      if (opt.reportOffSurface && !C.planar) {
-        const Vec3 &A = T.verts[tr.v[0]].xyz, &B = T.verts[tr.v[1]].xyz, &D = T.verts[tr.v[2]].xyz;
-        const double L = (dist(A, B) + dist(B, D) + dist(D, A)) / 3.0;
-        if (O.deviationEstimate(tr.v[0], tr.v[1], tr.v[2]) > 0.01 * L) {
-          bool footOutside = false;
-          double d = O.deviation(tr.v[0], tr.v[1], tr.v[2], &footOutside);
-          if (d > 0.02 * L && footOutside) d = std::max(d, rimDistance((1.0 / 3) * (A + B + D)));
-          if (d > 0.02 * L) res.offSurface.push_back({(int)res.tris.size() - 1, d});
-        }
-      }
-    }
+    emitFace(T, C, O, boundary, opt, res);
     if (res.tris.empty() && res.quads.empty()) {
       res.error = "no triangle was produced";
       return res;
