@@ -12,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-#include "paramesh/algo/BoundaryLayer.hpp"
+#include "paramesh/algo/boundary_layer/BoundaryLayer.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
 #include "paramesh/algo/FeatureDetect.hpp"
 #include "paramesh/algo/HighOrder.hpp"
