@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "paramesh/algo/BoundaryLayer.hpp"
+#include "paramesh/algo/boundary_layer/BoundaryLayer.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
 #include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/model/Coincidence.hpp"
