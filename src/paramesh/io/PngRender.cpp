@@ -271,20 +271,26 @@ class Raster {
 
 }  // namespace
 
-RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
-  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-    throw Error("picture size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                " is out of range (1..16384 pixels each)");
-  std::string problem = io::findMeshProblem(m);
-  if (!problem.empty()) throw Error("invalid mesh (" + problem + ")");
-  const bool o2 = m.order == 2;
-  const int W = o.width, H = o.height;
+/// The view frame (d towards the camera, right, up), the framing of the model or the focus box,
+/// and every node's screen position and depth.
+struct ViewProjection {
+  Vec3 d, right, up;
+  Box3 focus;
+  double zc = 0, depthRange = 1;
+  double cx = 0, cy = 0, scale = 1;  ///< screen centre (model units) and pixels per model unit
+  std::vector<PV> pv;
+};
 
+ViewProjection project(const SurfaceMesh& m, const RenderOptions& o, int W, int H) {
   // View frame: d points from the model towards the camera.
   const double az = o.azimuthDeg * kPi / 180, el = o.elevationDeg * kPi / 180;
-  const Vec3 d{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
-  const Vec3 right{-std::sin(az), std::cos(az), 0.0};
-  const Vec3 up = cross(d, right);
+  ViewProjection v;
+  Vec3& d = v.d;
+  d = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+  Vec3& right = v.right;
+  right = {-std::sin(az), std::cos(az), 0.0};
+  Vec3& up = v.up;
+  up = cross(d, right);
 
   // Screen-space extents to frame: the model's projected nodes, or the focus box's corners.
   Box3 model;
@@ -296,7 +302,7 @@ RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
     sx0 = std::min(sx0, x), sx1 = std::max(sx1, x);
     sy0 = std::min(sy0, y), sy1 = std::max(sy1, y);
   };
-  Box3 focus;
+  Box3& focus = v.focus;
   if (o.hasFocus) {
     focus.add(o.focusLo);
     focus.add(o.focusHi);
@@ -316,10 +322,13 @@ RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
     scale = 0.9 * std::min(W / std::max(sx1 - sx0, ext * 1e-9), H / std::max(sy1 - sy0, ext * 1e-9));
   }
   const double cx = 0.5 * (sx0 + sx1), cy = 0.5 * (sy0 + sy1);
+  v.cx = cx, v.cy = cy, v.scale = scale;
   const Vec3 centre = o.hasFocus ? 0.5 * (focus.lo + focus.hi) : 0.5 * (model.lo + model.hi);
-  const double zc = dot(centre, d);
+  v.zc = dot(centre, d);
+  const double zc = v.zc;
 
-  std::vector<PV> pv(m.nodes.size());
+  std::vector<PV>& pv = v.pv;
+  pv.resize(m.nodes.size());
   double zMin = 1e300, zMax = -1e300;
   for (std::size_t i = 0; i < m.nodes.size(); ++i) {
     const Vec3& p = m.nodes[i];
@@ -327,7 +336,24 @@ RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
              dot(p, d) - zc};
     zMin = std::min(zMin, pv[i].z), zMax = std::max(zMax, pv[i].z);
   }
-  const double depthRange = zMax > zMin ? zMax - zMin : 1.0;
+  v.depthRange = zMax > zMin ? zMax - zMin : 1.0;
+  return v;
+}
+
+RgbImage renderImage(const SurfaceMesh& m, const RenderOptions& o) {
+  if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
+    throw Error("picture size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                " is out of range (1..16384 pixels each)");
+  std::string problem = io::findMeshProblem(m);
+  if (!problem.empty()) throw Error("invalid mesh (" + problem + ")");
+  const bool o2 = m.order == 2;
+  const int W = o.width, H = o.height;
+
+  ViewProjection view = project(m, o, W, H);
+  const Vec3 &d = view.d, &right = view.right, &up = view.up;
+  const Box3& focus = view.focus;
+  const double zc = view.zc, depthRange = view.depthRange, cx = view.cx, cy = view.cy, scale = view.scale;
+  std::vector<PV>& pv = view.pv;
 
   Raster r(W, H);
   r.depthBias = 2e-5 * depthRange;
