@@ -48,7 +48,6 @@ class FaceLayers {
   const EdgeSpecMap& specOf_;
   const std::vector<LayerLaw>& laws_;
   FaceBLResult& out_;
-  double uspan_, vspan_;
   std::vector<char> specQuads_;
   std::vector<Vec3> otherPts_;  ///< points of already grown runs (collision tests)
   std::vector<double> otherH_;
@@ -92,7 +91,6 @@ class FaceLayers {
   void turnColumns(std::vector<Column>& cols, bool closed, int k) const;
   static Vec3 directionOf(const Column& c, int k);
   Vec3 marchDirection(const std::vector<Column>& cols, int i, int k) const;
-  void smoothDirections(std::vector<Column>& cols, int k, bool closed) const;
   static bool samePosition(const Column& a, const Column& b, int k);
   static Vec3 pointAt(const Column& c, int k);
   double rowSpacing(const std::vector<Column>& cols, int i, bool closed) const;

@@ -28,9 +28,6 @@ FaceLayers::FaceLayers(const ISurface& s, const std::vector<std::vector<LoopPoin
     : S_(s), loops_(loops), trueLoops_(trueLoops), guard_(guard), specOf_(specOf), laws_(laws), out_(out) {
   for (const LayerLaw& l : laws) specQuads_.push_back(l.quads);
   out_.stats.assign(laws.size(), FaceBLResult::SpecStats());
-  const UVBox b = s.bounds();
-  uspan_ = std::max(b.u1 - b.u0, 1e-300);
-  vspan_ = std::max(b.v1 - b.v0, 1e-300);
   // buckets about as large as the boundary's segments (the columns' spacing)
   double total = 0;
   int count = 0;

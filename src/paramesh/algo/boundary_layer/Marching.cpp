@@ -158,35 +158,6 @@ Vec3 FaceLayers::marchDirection(const std::vector<Column>& cols, int i, int k) c
   return norm2(d) > 1e-20 ? normalized(d) : c.dir;
 }
 
-void FaceLayers::smoothDirections(std::vector<Column>& cols, int k, bool closed) const {
-  const int m = (int)cols.size();
-  for (int it = 0; it < 3; ++it) {
-    std::vector<Vec3> nd(m);
-    for (int i = 0; i < m; ++i) {
-      Column& c = cols[i];
-      nd[i] = c.dir;
-      if (!c.active || c.fixed) continue;
-      Vec3 sum{0, 0, 0};
-      int cnt = 0;
-      for (int j : {i - 1, i + 1}) {
-        if (!closed && (j < 0 || j >= m)) continue;
-        const Column& o = cols[(j + m) % m];
-        if (o.root == c.root) continue;  // fan siblings keep their spread
-        const Vec3 d = directionOf(o, k);
-        if (norm2(d) == 0) continue;
-        sum += d;
-        ++cnt;
-      }
-      if (!cnt) continue;
-      const Vec3 nn = normalAt(c.uv.back());
-      Vec3 d = c.dir + (0.5 / cnt) * (sum - (double)cnt * c.dir);
-      d = d - dot(d, nn) * nn;
-      if (norm2(d) > 1e-20) nd[i] = normalized(d);
-    }
-    for (int i = 0; i < m; ++i) cols[i].dir = nd[i];
-  }
-}
-
 bool FaceLayers::samePosition(const Column& a, const Column& b, int k) {
   return a.root == b.root && k == 0;
 }
