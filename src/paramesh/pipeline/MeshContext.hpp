@@ -65,18 +65,24 @@ struct MeshContext {
   std::map<int, std::string> blDropped;
   std::vector<OffSurfaceTriangle> offSurface;  ///< candidates of the nearest-face check (output triangles)
   std::vector<double> triDeviation;            ///< per output triangle: centroid distance to its surface (0: small)
-  std::vector<char> staggered_;                ///< per edge: discretised by the narrow-gap stage
-  std::vector<std::vector<std::pair<int, double>>> strayPcurves_;  ///< per face: FaceBoundary::strayPcurves
-  bool strayLogged_ = false;
-  std::vector<std::string> edgeError_;         ///< per edge: why it could not be discretised ("" if it was)
-  /// The last discretisation's edge parameters (before createEdgeNodes): a nearest-face round
-  /// that leaves the size field as it was (local deviation bounds only) reuses them
-  struct EdgeParams {
-    bool valid = false;
-    std::vector<std::vector<double>> ts;
-    std::vector<char> degen;
-    std::vector<std::string> errors;
-  } lastEdges_;
+  /// The edge stage's own state (stages/edges).
+  struct EdgeStageState {
+    std::vector<char> staggered;      ///< per edge: discretised by the narrow-gap stage
+    std::vector<std::string> error;   ///< per edge: why it could not be discretised ("" if it was)
+    /// The last discretisation's edge parameters (before createEdgeNodes): a nearest-face round
+    /// that leaves the size field as it was (local deviation bounds only) reuses them
+    struct EdgeParams {
+      bool valid = false;
+      std::vector<std::vector<double>> ts;
+      std::vector<char> degen;
+      std::vector<std::string> errors;
+    } last;
+  } edgeStage;
+  /// The face stage's own state (stages/faces).
+  struct FaceStageState {
+    std::vector<std::vector<std::pair<int, double>>> strayPcurves;  ///< per face: FaceBoundary::strayPcurves
+    bool strayLogged = false;
+  } faceStage;
   /// The previous meshing round of the nearest-face check: a face whose edges kept their nodes
   /// and that no new size source reaches keeps its mesh (the size field there is unchanged, and
   /// meshing a face is deterministic: re-meshing it would give the same elements).
@@ -86,10 +92,13 @@ struct MeshContext {
     std::vector<EdgeMesh> edges;
     std::vector<std::vector<Vec3>> points;  ///< per face: its mesh's nodes
   };
-  std::unique_ptr<PreviousRound> previous_;
-  std::vector<SizeSource> roundSources_;  ///< the sources added since the previous round (slope kNearestFaceSlope)
-  std::vector<std::vector<DeviationZone>> zones_;  ///< per face: the nearest-face check's local deviation bounds
-  std::vector<char> zonesAdded_;                   ///< per face: zones added since the previous round
+  /// The nearest-face rounds' own state (stages/nearest_face).
+  struct RoundState {
+    std::unique_ptr<PreviousRound> previous;
+    std::vector<SizeSource> sources;  ///< the sources added since the previous round (slope kNearestFaceSlope)
+    std::vector<std::vector<DeviationZone>> zones;  ///< per face: the nearest-face check's local deviation bounds
+    std::vector<char> zonesAdded;                   ///< per face: zones added since the previous round
+  } rounds;
   int threads = 1;
 
   MeshContext(const IGeometryModel& m, MeshParams params, LogSink sink, ProgressCallback cb)
@@ -134,7 +143,7 @@ struct MeshContext {
 
   void discretizeEdges();
   /// One edge's work under the kernel-failure guard: an edge the kernel cannot evaluate fails
-  /// alone (no nodes, edgeError_ says why; the faces it bounds fail naming it).
+  /// alone (no nodes, edgeStage.error says why; the faces it bounds fail naming it).
   void discretizeOne(int e, std::vector<std::vector<double>>& ts, const std::function<void()>& body);
   /// Every edge (or those marked in only) discretised by 3D length in the size field.
   void discretizeAll(std::vector<std::vector<double>>& ts, std::vector<char>& degen, const std::vector<char>* only);

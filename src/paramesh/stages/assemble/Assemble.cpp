@@ -4,7 +4,7 @@
 /// its local nodes numbered, reversed faces flipped so every element is oriented with the
 /// shape's outward normal; the face's report counts filled; the round kept for the next
 /// nearest-face round. Reads the face results, model (orientation); writes mesh, triUv, quadUv,
-/// offSurface, triDeviation, report.faces, previous_.
+/// offSurface, triDeviation, report.faces, rounds.previous.
 #include <algorithm>
 #include <limits>
 #include <memory>
@@ -103,7 +103,7 @@ void MeshContext::keepForNextRound(std::vector<FaceMeshResult>&& results) {
   prev->results = std::move(results);
   prev->reports = report.faces;
   prev->edges = edges;
-  previous_ = std::move(prev);
+  rounds.previous = std::move(prev);
 }
 
 }  // namespace paramesh

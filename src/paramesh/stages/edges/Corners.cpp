@@ -75,7 +75,7 @@ bool MeshContext::matchCornerSegments(std::vector<std::vector<double>>& ts, cons
                                       std::asin(std::min(1.0, std::sin(ang * kPi / 180) * lb / lc))}) * 180.0 / kPi;
         if (ears >= 30.0) continue;
         const int longEdge = la > lb ? P.edge : V.edge;
-        if (!mayRespace(longEdge, degen) || (staggered_.size() == (size_t)ne && staggered_[longEdge])) continue;
+        if (!mayRespace(longEdge, degen) || (edgeStage.staggered.size() == (size_t)ne && edgeStage.staggered[longEdge])) continue;
         if (ts[longEdge].size() < 3) continue;  // a single segment cannot be shortened at one end
         found.push_back({longEdge, {V.xyz, kCornerRatio * std::min(la, lb)}});
       }

@@ -3,7 +3,7 @@
 /// Edge stage: every CAD edge discretised once by 3D length in the size field (short edges become
 /// size sources, strips get rows, narrow gaps and corners are re-spaced: NarrowGaps.cpp,
 /// Corners.cpp), then the edge nodes created and shared by the faces. Reads model, field, blEnds,
-/// same; writes edges, vertexNode, mesh.nodes / segments, segmentT, edgeError_, lastEdges_.
+/// same; writes edges, vertexNode, mesh.nodes / segments, segmentT, edgeStage.error, edgeStage.last.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -39,7 +39,7 @@ void MeshContext::discretizeEdges() {
   const int ne = model.numEdges();
   std::vector<std::vector<double>> ts(ne);
   std::vector<char> degen(ne, 0);
-  edgeError_.assign(ne, std::string());
+  edgeStage.error.assign(ne, std::string());
   discretizeAll(ts, degen, nullptr);
   // CAD edges much shorter than the size field, in chains (a finely detailed boundary) or split
   // into 3+ segments by the turning limit (tight arcs), become size sources at their segment
@@ -64,16 +64,16 @@ void MeshContext::discretizeEdges() {
   if (p.staggerNarrowGaps && blLaws.empty())
     refineStage("narrow gaps", [&] { return staggerNarrowGaps(ts, degen); });
   if (blLaws.empty()) refineStage("corner spacing", [&] { return matchCornerSegments(ts, degen); });
-  lastEdges_ = {true, ts, degen, edgeError_};
+  edgeStage.last = {true, ts, degen, edgeStage.error};
   createEdgeNodes(ts, degen);
 }
 
 void MeshContext::discretizeOne(int e, std::vector<std::vector<double>>& ts, const std::function<void()>& body) {
   // an edge the geometry kernel cannot evaluate (a damaged curve) fails alone: it gets no nodes,
   // the faces bounded by it fail naming it, the others are meshed
-  if (!edgeError_[e].empty()) return;
-  edgeError_[e] = edgeFailure(body);
-  if (!edgeError_[e].empty()) ts[e].clear();
+  if (!edgeStage.error[e].empty()) return;
+  edgeStage.error[e] = edgeFailure(body);
+  if (!edgeStage.error[e].empty()) ts[e].clear();
 }
 
 void MeshContext::discretizeAll(std::vector<std::vector<double>>& ts, std::vector<char>& degen,
@@ -119,8 +119,8 @@ void MeshContext::discretizeEdge(int e, std::vector<std::vector<double>>& ts, st
 }
 
 void MeshContext::reuseEdges() {
-  edgeError_ = lastEdges_.errors;
-  createEdgeNodes(lastEdges_.ts, lastEdges_.degen);
+  edgeStage.error = edgeStage.last.errors;
+  createEdgeNodes(edgeStage.last.ts, edgeStage.last.degen);
 }
 
 void MeshContext::splitParallelChords(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) const {
@@ -197,7 +197,7 @@ void MeshContext::createEdgeNodes(const std::vector<std::vector<double>>& ts, co
     // by more than its diagonal (damaged), fails alone and adds no node
     std::vector<Vec3> xyz(n);
     if (!em.degenerate && n > 0) {
-      edgeError_[e] = edgeFailure([&] {
+      edgeStage.error[e] = edgeFailure([&] {
         std::unique_ptr<ICurve> c = model.makeCurve(e);
         for (size_t i = 0; i < n; ++i) {
           const Vec3 q = c->eval(em.t[i]);
@@ -208,7 +208,7 @@ void MeshContext::createEdgeNodes(const std::vector<std::vector<double>>& ts, co
           xyz[i] = q;
         }
       });
-      if (!edgeError_[e].empty()) {
+      if (!edgeStage.error[e].empty()) {
         em.t.clear();
         continue;
       }
@@ -243,12 +243,12 @@ void MeshContext::createEdgeNodes(const std::vector<std::vector<double>>& ts, co
     if (r == e) continue;
     const EdgeMesh& rm = edges[r];
     EdgeMesh& em = edges[e];
-    if (!edgeError_[r].empty()) {
-      edgeError_[e] = "it coincides with Edge" + std::to_string(r + 1) + ", which failed: " + edgeError_[r];
+    if (!edgeStage.error[r].empty()) {
+      edgeStage.error[e] = "it coincides with Edge" + std::to_string(r + 1) + ", which failed: " + edgeStage.error[r];
       continue;
     }
     const size_t n = rm.nodes.size();
-    edgeError_[e] = edgeFailure([&] {
+    edgeStage.error[e] = edgeFailure([&] {
       auto c = model.makeCurve(e);
       double t0, t1;
       model.edgeRange(e, t0, t1);
@@ -261,7 +261,7 @@ void MeshContext::createEdgeNodes(const std::vector<std::vector<double>>& ts, co
         em.t[i] = i == 0 ? t0 : (i + 1 == n ? t1 : c->project(mesh.nodes[em.nodes[i]], seed, t0, t1));
       }
     });
-    if (!edgeError_[e].empty()) {
+    if (!edgeStage.error[e].empty()) {
       em.nodes.clear();
       em.t.clear();
     }

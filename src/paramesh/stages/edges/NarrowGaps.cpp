@@ -3,7 +3,7 @@
 /// Edge stage, narrow gaps: where two boundary loops of a face come closer than the size, the
 /// nodes of the two sides are staggered (or spaced wide in very thin strips) so that the
 /// triangles across the gap keep their angles. Reads model, field, the edges' parameters;
-/// rewrites those parameters and staggered_.
+/// rewrites those parameters and edgeStage.staggered.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -163,7 +163,7 @@ bool MeshContext::staggerAgainstLeaders(int b, const std::vector<int>& leadersOf
 
 bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const std::vector<char>& degen) {
   const int nf = model.numFaces(), ne = model.numEdges();
-  staggered_.assign(ne, 0);
+  edgeStage.staggered.assign(ne, 0);
   std::vector<std::vector<NarrowGap>> gaps(nf);
   parallelFor(nf, threads, [&](int f) {
     progress.poll();
@@ -235,20 +235,20 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
   for (int e = 0; e < ne; ++e) {
     if (!leads[e] || follower[e] || wants[e].empty()) continue;
     discretizeWidened(e, wants[e]);
-    staggered_[e] = 1;
+    edgeStage.staggered[e] = 1;
     ++changed;
   }
   int staggered = 0;
   // followers in dependency order, staggered against their leaders' nodes
   for (int b : roles.order) {
     if (!staggerAgainstLeaders(b, leaders[b], ts)) continue;
-    staggered_[b] = 1;
+    edgeStage.staggered[b] = 1;
     ++staggered;
     ++changed;
   }
   int widened = 0;
   for (int e = 0; e < ne; ++e)
-    if (!wide[e].empty() && !staggered_[e] && !follower[e]) {
+    if (!wide[e].empty() && !edgeStage.staggered[e] && !follower[e]) {
       discretizeWidened(e, wide[e]);
       ++widened;
     }

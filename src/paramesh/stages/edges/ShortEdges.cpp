@@ -106,7 +106,7 @@ void MeshContext::refineShortEdges(std::vector<std::vector<double>>& ts, std::ve
       auto c = model.makeCurve(e);
       for (double t : ts[e]) pts[e].push_back(c->eval(t));
     });
-    if (!edgeError_[e].empty()) pts[e].clear();
+    if (!edgeStage.error[e].empty()) pts[e].clear();
   });
   for (int e = 0; e < ne; ++e) {
     if (pts[e].empty()) continue;

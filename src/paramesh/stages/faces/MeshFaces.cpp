@@ -2,7 +2,7 @@
 /// @file MeshFaces.cpp
 /// Face stage: every face meshed in (u,v) from its boundary (in parallel, a failing face does not
 /// take the others down), faces the previous round left unchanged reused, and the results
-/// assembled into one conformal, oriented mesh. Reads model, field, edges, vertexNode, zones_;
+/// assembled into one conformal, oriented mesh. Reads model, field, edges, vertexNode, rounds.zones;
 /// writes mesh (triangles, quads), triUv, quadUv, report.faces, offSurface, triDeviation.
 #include <algorithm>
 #include <limits>
@@ -23,22 +23,22 @@ namespace paramesh {
 using namespace tuning;
 
 int MeshContext::failedEdgeOf(int f) const {
-  if (edgeError_.empty()) return -1;
+  if (edgeStage.error.empty()) return -1;
   for (const Wire& w : model.faceWires(f))
     for (const EdgeUse& u : w.uses)
-      if (!edgeError_[u.edge].empty()) return u.edge;
+      if (!edgeStage.error[u.edge].empty()) return u.edge;
   return -1;
 }
 
 void MeshContext::logStrayPcurves() {
-  if (strayLogged_) return;
-  strayLogged_ = true;
+  if (faceStage.strayLogged) return;
+  faceStage.strayLogged = true;
   int faces = 0, uses = 0, worstFace = -1, worstEdge = -1;
   double worst = 0;
-  for (int f = 0; f < (int)strayPcurves_.size(); ++f) {
-    if (strayPcurves_[f].empty()) continue;
+  for (int f = 0; f < (int)faceStage.strayPcurves.size(); ++f) {
+    if (faceStage.strayPcurves[f].empty()) continue;
     ++faces;
-    for (const auto& t : strayPcurves_[f]) {
+    for (const auto& t : faceStage.strayPcurves[f]) {
       ++uses;
       if (t.second > worst) {
         worst = t.second;
@@ -87,24 +87,24 @@ void MeshContext::meshOneFace(int f, const FaceMeshOptions& fo, FaceMeshResult& 
     const int bad = failedEdgeOf(f);
     if (bad >= 0) {
       fr.ok = false;
-      const std::string name = "Edge" + std::to_string(bad + 1), &reason = edgeError_[bad];
+      const std::string name = "Edge" + std::to_string(bad + 1), &reason = edgeStage.error[bad];
       fr.error = "its " + name + " could not be discretised: " +
                  (reason.rfind(name + ": ", 0) == 0 ? reason.substr(name.size() + 2) : reason);
     } else if (!buildFaceBoundary(model, edges, mesh, field, f, *s, fb, why)) {
       fr.ok = false;
       fr.error = why;
     } else if (hasBoundaryLayer(f)) {
-      strayPcurves_[f] = fb.strayPcurves;
+      faceStage.strayPcurves[f] = fb.strayPcurves;
       result = meshFaceWithLayers(f, *s, fb, fo);
       fr.ok = result.ok;
       fr.error = result.error;
     } else {
-      strayPcurves_[f] = fb.strayPcurves;
+      faceStage.strayPcurves[f] = fb.strayPcurves;
       FaceMeshOptions zo;  // with the nearest-face check's zones on this face
-      const bool zoned = f < (int)zones_.size() && !zones_[f].empty();
+      const bool zoned = f < (int)rounds.zones.size() && !rounds.zones[f].empty();
       if (zoned) {
         zo = fo;
-        zo.deviationZones = zones_[f];
+        zo.deviationZones = rounds.zones[f];
       }
       result = meshFace(*s, fb, field, zoned ? zo : fo, &progress);
       fr.ok = result.ok;
@@ -126,7 +126,7 @@ void MeshContext::meshOneFace(int f, const FaceMeshOptions& fo, FaceMeshResult& 
 void MeshContext::meshFaces() {
   Timer tm;
   const int nf = model.numFaces();
-  strayPcurves_.assign(nf, {});
+  faceStage.strayPcurves.assign(nf, {});
   std::vector<FaceMeshResult> results(nf);
   report.faces.assign(nf, FaceReport());
   std::atomic<int> done{0};
@@ -158,8 +158,8 @@ void MeshContext::meshFaces() {
 std::vector<char> MeshContext::reusePreviousRound(std::vector<FaceMeshResult>& results) {
   const int nf = model.numFaces();
   std::vector<char> reused(nf, 0);
-  if (!previous_) return reused;
-  std::unique_ptr<PreviousRound> prev = std::move(previous_);
+  if (!rounds.previous) return reused;
+  std::unique_ptr<PreviousRound> prev = std::move(rounds.previous);
   const int ne = model.numEdges();
   std::vector<char> edgeSame(ne, 0);
   for (int e = 0; e < ne && (size_t)e < prev->edges.size(); ++e)
@@ -169,7 +169,7 @@ std::vector<char> MeshContext::reusePreviousRound(std::vector<FaceMeshResult>& r
   // the field is queried on the surface between the nodes too: one size of margin
   std::vector<Vec3> at;
   std::vector<double> reach;
-  for (const SizeSource& src : roundSources_) {
+  for (const SizeSource& src : rounds.sources) {
     at.push_back(src.p);
     reach.push_back((hmax - src.h) / kNearestFaceSlope + hmax);
   }
@@ -177,7 +177,7 @@ std::vector<char> MeshContext::reusePreviousRound(std::vector<FaceMeshResult>& r
   int kept = 0;
   for (int f = 0; f < nf; ++f) {
     bool ok = !prev->points[f].empty() || !prev->reports[f].ok;
-    if (f < (int)zonesAdded_.size() && zonesAdded_[f]) ok = false;
+    if (f < (int)rounds.zonesAdded.size() && rounds.zonesAdded[f]) ok = false;
     for (const Wire& w : model.faceWires(f))
       for (const EdgeUse& u : w.uses) ok = ok && edgeSame[same.edgeRep[u.edge]];
     if (!ok) continue;

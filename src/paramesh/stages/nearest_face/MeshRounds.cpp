@@ -23,7 +23,7 @@ void MeshContext::meshRound(bool sameField) {
   progress.report(0.05, "edges");
   {
     Timer te;
-    if (sameField && lastEdges_.valid)
+    if (sameField && edgeStage.last.valid)
       reuseEdges();
     else
       discretizeEdges();
@@ -113,7 +113,7 @@ void MeshContext::meshRounds() {
         (double)elementCount(mesh) > (1.0 + p.nearestFaceBudget) * (double)elementCount(unrefined->mesh))
       break;
     if (src.empty()) {  // zones only: the same field and edges, the zoned faces meshed again
-      roundSources_.clear();
+      rounds.sources.clear();
       resetMesh();
       sameField = true;
       continue;
@@ -130,11 +130,11 @@ void MeshContext::meshRounds() {
         break;
       }
     }
-    roundSources_ = std::move(src);
+    rounds.sources = std::move(src);
     resetMesh();
     field = std::move(next);
   }
-  previous_.reset();
+  rounds.previous.reset();
   if (unrefined) settleRefinement(std::move(*unrefined), predictedGrowth);
 }
 

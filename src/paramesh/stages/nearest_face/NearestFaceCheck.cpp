@@ -2,7 +2,7 @@
 /// @file NearestFaceCheck.cpp
 /// Nearest-face stage, the check: triangles whose centroid lies nearer another CAD face than
 /// their own, their size sources or local deviation bounds; and the state a round is rolled back
-/// to. Reads mesh, offSurface, triDeviation; writes report.nearestFace*, zones_, zonesAdded_.
+/// to. Reads mesh, offSurface, triDeviation; writes report.nearestFace*, rounds.zones, rounds.zonesAdded.
 #include <algorithm>
 #include <memory>
 #include <vector>
@@ -53,11 +53,11 @@ NearestFaceResult MeshContext::nearestFaceCheck() {
 
 std::vector<char> MeshContext::addDeviationZones(const NearestFaceResult& r) {
   const int nf = model.numFaces();
-  zones_.resize(nf);
-  zonesAdded_.assign(nf, 0);
+  rounds.zones.resize(nf);
+  rounds.zonesAdded.assign(nf, 0);
   std::vector<char> added(r.found.size(), 0);
   std::vector<size_t> before(nf);
-  for (int f = 0; f < nf; ++f) before[f] = zones_[f].size();
+  for (int f = 0; f < nf; ++f) before[f] = rounds.zones[f].size();
   for (size_t k = 0; k < r.found.size(); ++k) {
     const int t = (int)r.found[k][0];
     const int f = mesh.triangleFace[t] - 1;
@@ -75,10 +75,10 @@ std::vector<char> MeshContext::addDeviationZones(const NearestFaceResult& r) {
       z.allowed = z.fraction * r.found[k][2];
     }
     bool known = false;
-    for (size_t i = 0; i < before[f]; ++i) known = known || zones_[f][i].bound(c) <= z.bound(c);
+    for (size_t i = 0; i < before[f]; ++i) known = known || rounds.zones[f][i].bound(c) <= z.bound(c);
     if (known) continue;
-    zones_[f].push_back(z);
-    zonesAdded_[f] = 1;
+    rounds.zones[f].push_back(z);
+    rounds.zonesAdded[f] = 1;
     added[k] = 1;
   }
   return added;

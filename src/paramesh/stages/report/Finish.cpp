@@ -110,8 +110,8 @@ void MeshContext::warnOverDeviation() {
   // the stray pcurves of a face (largest offset), which bound what its triangles can meet
   auto stray = [&](int face) {
     double off = 0;
-    if (face - 1 < (int)strayPcurves_.size())
-      for (const auto& t : strayPcurves_[face - 1]) off = std::max(off, t.second);
+    if (face - 1 < (int)faceStage.strayPcurves.size())
+      for (const auto& t : faceStage.strayPcurves[face - 1]) off = std::max(off, t.second);
     return off;
   };
   bool strays = false;
