@@ -15,20 +15,15 @@
 
 #include "paramesh/algo/boundary_layer/BoundaryLayer.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
-#include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/model/Coincidence.hpp"
-#include "paramesh/model/FaceDomain.hpp"
 #include "paramesh/model/NarrowZones.hpp"
 #include "paramesh/pipeline/Mesher.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
 #include "paramesh/size/NearestFace.hpp"
 #include "paramesh/size/SizeField.hpp"
-#include "paramesh/size/SourceReach.hpp"
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/stages/edges/EdgeMesh.hpp"
 #include "paramesh/util/Error.hpp"
-#include "paramesh/util/Parallel.hpp"
-#include "paramesh/util/SpatialGrid.hpp"
 #include "paramesh/util/Timer.hpp"
 
 namespace paramesh {

@@ -10,6 +10,7 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 
 namespace paramesh {

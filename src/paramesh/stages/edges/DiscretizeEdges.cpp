@@ -15,6 +15,7 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/util/Format.hpp"
 

@@ -11,6 +11,8 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/util/SpatialGrid.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 
 namespace paramesh {

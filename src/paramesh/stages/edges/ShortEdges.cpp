@@ -11,6 +11,8 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/size/SourceReach.hpp"
+#include "paramesh/util/Parallel.hpp"
 
 namespace paramesh {
 

@@ -13,6 +13,7 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/algo/SurfaceContext.hpp"
 #include "paramesh/algo/Predicates.hpp"
 
 namespace paramesh {

@@ -14,6 +14,8 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/size/SourceReach.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/model/EdgeDiscretizer.hpp"
 #include "paramesh/stages/faces/FaceBoundaryBuild.hpp"
 #include "paramesh/util/Format.hpp"

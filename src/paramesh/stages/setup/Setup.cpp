@@ -9,6 +9,7 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/util/Format.hpp"
 
 namespace paramesh {

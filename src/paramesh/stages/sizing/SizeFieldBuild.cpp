@@ -8,6 +8,7 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/size/Proximity.hpp"
 
 namespace paramesh {
