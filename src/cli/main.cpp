@@ -57,6 +57,9 @@ const char* kUsage =
     "                        again (at most 6 times; the report says how many remain)\n"
     "  --quads               quad-dominant surface mesh (triangles paired into quads)\n"
     "  --order 1|2           element order; 2 puts mid-edge nodes on the CAD (default 1)\n"
+    "  --volume              fill every closed solid with tetrahedra (tet4, tet10 with --order 2)\n"
+    "                        bounded by the surface triangles\n"
+    "  --volume-max-size H   largest tetrahedron edge inside the solids (default: --max-size)\n"
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
     "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
@@ -177,6 +180,8 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--nearest-face-budget") p.nearestFaceBudget = parseNumber(a, next());
     else if (a == "--no-stagger") p.staggerNarrowGaps = false;
     else if (a == "--quads") p.quads = true;
+    else if (a == "--volume") p.volume = true;
+    else if (a == "--volume-max-size") p.volumeMaxSize = parseNumber(a, next());
     else if (a == "--report") report = next();
     else if (a == "--png") png = next();
     else if (a == "--view") {
@@ -258,6 +263,9 @@ int cmdMesh(int argc, char** argv) {
       if (kv.first == "total") total = kv.second;
     std::fprintf(stderr, "%d nodes, %d triangles, %d quads in %.3f s; gamma mean %.4f, min angle %.2f deg\n",
                  r.nodes, r.triangles, r.quads, total, r.quality.gammaMean, r.quality.angleMin);
+    if (p.volume)
+      std::fprintf(stderr, "%d tetrahedra in %d of %d solids; min dihedral %.2f deg\n", r.tetrahedra,
+                   r.solidsFilled(), (int)r.solids.size(), r.tetMinDihedral());
   }
   if (r.status == RunStatus::Degraded) die(3, r.message);
   if (r.status == RunStatus::Failed) die(4, r.message);

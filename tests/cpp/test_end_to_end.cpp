@@ -315,6 +315,7 @@ class BrokenEdgeModel : public IGeometryModel {
   std::unique_ptr<IPCurve> makePCurve(int f, int w, int u) const override { return m_.makePCurve(f, w, u); }
   double faceTolerance(int f) const override { return m_.faceTolerance(f); }
   int faceSolid(int f) const override { return m_.faceSolid(f); }
+  std::vector<SolidFace> solidFaces(int s) const override { return m_.solidFaces(s); }
   Box3 boundingBox() const override { return m_.boundingBox(); }
   std::string source() const override { return m_.source(); }
 

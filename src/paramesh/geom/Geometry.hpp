@@ -100,6 +100,13 @@ struct Wire {
   std::vector<EdgeUse> uses;
 };
 
+/// A face bounding a solid: reversed when the solid uses it against the face's own orientation
+/// (faceReversed), so that the face's triangles must be flipped to point out of that solid.
+struct SolidFace {
+  int face = 0;  ///< 0-based
+  bool reversed = false;
+};
+
 /// The topology and geometry of a CAD model, as the mesher sees it.
 class IGeometryModel {
  public:
@@ -137,6 +144,9 @@ class IGeometryModel {
   virtual double faceTolerance(int f) const = 0;
   /// Solid (0-based) that owns the face, -1 for a free face/shell.
   virtual int faceSolid(int f) const = 0;
+  /// The faces bounding solid s (0-based), each with its orientation in that solid; a face shared
+  /// by two solids appears in both. A face used twice by one solid (an internal face) appears twice.
+  virtual std::vector<SolidFace> solidFaces(int s) const = 0;
 
   /// Bounding box of the whole model.
   virtual Box3 boundingBox() const = 0;

@@ -17,12 +17,15 @@ namespace paramesh {
 /// per CAD face, each tagged with its 1-based CAD number (so meshio's "gmsh:geometrical" and
 /// Gmsh's elementary tags are the FreeCAD Face<i>/Edge<i>/Vertex<i> numbers). Node tags are
 /// node index + 1; element tags run from 1 in file order: points (type 15), segments (1 / line3
-/// 8), then per face its triangles (2 / triangle6 9) and quads (3 / quad8 16).
+/// 8), then per face its triangles (2 / triangle6 9) and quads (3 / quad8 16), then per solid
+/// (volume entity tag = 1-based solid number) its tetrahedra (4 / tet10 11).
 void writeMsh41(const std::string& path, const SurfaceMesh& m);
 
-/// VTK XML UnstructuredGrid (ASCII): triangles (VTK 5, quadratic 22) then quads (9, quadratic
-/// 23). Cell data "face" (Int32, CAD face number) and "quality" (Float64, see triangleGamma /
-/// quadQuality); point data "entity_dim" (Int32, 0/1/2) and "entity" (Int32, CAD number).
+/// VTK XML UnstructuredGrid (ASCII): triangles (VTK 5, quadratic 22), quads (9, quadratic
+/// 23), then tetrahedra (10, quadratic 24). Cell data "face" (Int32, CAD face number; 0 for
+/// tetrahedra), "solid" (Int32, only with tetrahedra: their solid, 0 for surface cells) and
+/// "quality" (Float64, see triangleGamma / quadQuality, tetrahedra: tetRadiusRatio); point data
+/// "entity_dim" (Int32, 0/1/2/3) and "entity" (Int32, CAD number).
 /// Segments are not written.
 void writeVtu(const std::string& path, const SurfaceMesh& m);
 
@@ -34,6 +37,9 @@ void writeStl(const std::string& path, const SurfaceMesh& m, bool binary = true)
 /// Abaqus / CalculiX input: *NODE, then per CAD face its *ELEMENT blocks (S3 / S6 triangles,
 /// S4 / S8 quads; order-2 node order: corners then mid-nodes n12, n23, n31 (n34, n41)), then one
 /// *ELSET, ELSET=Face<i> per CAD face. Segments are not written.
+/// With tetrahedra (a solid FEM mesh) the elements are the tetrahedra only (C3D4 / C3D10, one
+/// *ELSET, ELSET=Solid<i> per solid), and each CAD face is a node set (*NSET, NSET=Face<i>) and
+/// an element-face surface (*SURFACE, NAME=Face<i>, TYPE=ELEMENT: the tetrahedron faces on it).
 void writeInp(const std::string& path, const SurfaceMesh& m);
 
 /// Dispatches on the lower-case extension: .msh, .vtu, .stl (binary) or .inp; anything else

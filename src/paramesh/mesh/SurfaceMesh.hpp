@@ -7,6 +7,8 @@
 ///   face's outward normal (face orientation respected).
 ///   quad (a,b,c,d): same orientation rule.
 ///   order 2: triangle mid-nodes (ab, bc, ca); quad mid-nodes (ab, bc, cd, da).
+///   tetrahedron (a,b,c,d): positive volume, ((b-a)x(c-a)).(d-a) > 0 (Gmsh, VTK and CalculiX
+///   order); order 2 mid-nodes (ab, bc, ca, ad, bd, cd) (VTK / CalculiX C3D10 order).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -16,8 +18,8 @@
 
 namespace paramesh {
 
-/// Dimension of the CAD entity a node lies on.
-enum class NodeKind : int8_t { Vertex = 0, Edge = 1, Face = 2 };
+/// Dimension of the CAD entity a node lies on (Volume: inside a solid, entity = 1-based solid).
+enum class NodeKind : int8_t { Vertex = 0, Edge = 1, Face = 2, Volume = 3 };
 
 struct SurfaceMesh {
   std::vector<Vec3> nodes;           ///< #N node coordinates
@@ -40,7 +42,11 @@ struct SurfaceMesh {
   std::vector<std::array<int, 4>> quadMid;      ///< #Q mid-edge nodes when order == 2
   std::vector<int> segmentMid;                  ///< #S mid nodes when order == 2
 
-  int numFaces = 0, numEdges = 0, numVertices = 0;  ///< CAD entity counts (for writers)
+  std::vector<std::array<int, 4>> tets;       ///< #K corner nodes (volume fill)
+  std::vector<int> tetSolid;                  ///< #K 1-based CAD solid (FreeCAD Solid<i>)
+  std::vector<std::array<int, 6>> tetMid;     ///< #K mid-edge nodes when order == 2
+
+  int numFaces = 0, numEdges = 0, numVertices = 0, numSolids = 0;  ///< CAD entity counts (for writers)
 
   int addNode(Vec3 p, NodeKind k, int entity, Vec2 param = {}) {
     nodes.push_back(p);

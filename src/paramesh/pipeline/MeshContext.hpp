@@ -285,6 +285,11 @@ struct MeshContext {
   /// After the rounds: keep the refined mesh, or take the unrefined one back (and say why).
   void settleRefinement(MeshState&& unrefined, double predictedGrowth);
 
+  // ================================================================ stages/volume (FillSolids.cpp)
+  /// Every solid filled with tetrahedra bounded by its faces' triangles (report.solids says
+  /// which could not be, and why).
+  void fillSolids();
+
   // ================================================================ stages/second_order (SecondOrder.cpp)
   void secondOrder();
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file Mesher.cpp
 /// The surface pipeline's driver: each step is a stage of MeshContext, in its own folder under
-/// src/paramesh/stages/ (setup, sizing, layer_plan, edges, faces, nearest_face, second_order, report).
+/// src/paramesh/stages/ (setup, sizing, layer_plan, edges, faces, nearest_face, volume, second_order,
+/// report).
 #include "paramesh/pipeline/Mesher.hpp"
 
 #include <memory>
@@ -54,6 +55,7 @@ MeshOutput Mesher::runUnbudgeted() {
   if (c.p.proximity > 0) c.addProximitySources();
   c.planBoundaryLayers();      // layer_plan: row heights, end columns on the neighbour edges
   c.meshRounds();              // edges and faces, again while the nearest-face check refines
+  if (c.p.volume) c.fillSolids();  // volume: tetrahedra inside each closed solid (nglib)
   if (c.p.order == 2) c.secondOrder();
   c.finish();                  // report: quality, deviation, warnings
   c.stage("total", total.seconds());

@@ -42,6 +42,14 @@ void MeshParams::validate() const {
                          num(nearestFaceBudget) + ")");
   if (order != 1 && order != 2) throw ParameterError("order must be 1 or 2 (got " + std::to_string(order) + ")");
   checkedMaxElements((double)maxElements);
+  if (!finite(volumeMaxSize) || volumeMaxSize < 0)
+    throw ParameterError("volume_max_size must be a positive length (got " + num(volumeMaxSize) + ")");
+  if (volume && quads)
+    throw ParameterError("volume: the tetrahedra need a triangle surface mesh; leave out quads (--quads)");
+  for (size_t i = 0; i < boundaryLayers.size() && volume; ++i)
+    if (boundaryLayers[i].quads)
+      throw ParameterError("volume: boundary layer #" + std::to_string(i + 1) +
+                           " makes quads; the tetrahedra need triangles (give it quads = false, or --bl-triangles)");
   if (optimizePasses < 0 || optimizePasses > 100)
     throw ParameterError("optimize_passes must be in [0, 100] (got " + std::to_string(optimizePasses) + ")");
   for (size_t i = 0; i < localSizes.size(); ++i) {

@@ -57,6 +57,11 @@ struct MeshParams {
   /// 330 bytes each: 50 M is about 16 GB): a size far too small for the model is an error, not
   /// hours of meshing until memory runs out.
   long maxElements = 50000000;
+  /// Fill every closed solid with tetrahedra bounded by the surface triangles (stages/volume).
+  bool volume = false;
+  /// Largest tetrahedron edge inside the solids; 0: max_size (the interior grows from the surface
+  /// sizes at the grading up to it).
+  double volumeMaxSize = 0;
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;
 

@@ -74,6 +74,20 @@ struct ProposedEdge {
   double ratio = 0;             ///< across / along curvature
 };
 
+/// Per solid: the volume fill (stages/volume).
+struct SolidReport {
+  int solid = 0;                 ///< 1-based solid number (FreeCAD Solid<i>)
+  std::vector<int> faces;        ///< 1-based faces bounding it
+  bool ok = false;
+  std::string error;             ///< why it was not filled (names the faces or nglib's message)
+  int tetrahedra = 0, nodes = 0;  ///< nodes: inside the solid (not on its surface)
+  double minDihedral = 0, meanDihedral = 0, maxDihedral = 0;  ///< degrees
+  double pctDihedralBelow10 = 0;  ///< % of tetrahedra with a dihedral angle < 10 degrees
+  double minRadiusRatio = 0, meanRadiusRatio = 0;  ///< 3 r_in / r_circ (1: regular)
+  double volume = 0;             ///< sum of the tetrahedra's volumes
+  double seconds = 0;
+};
+
 struct Report {
   RunStatus status = RunStatus::Ok;
   std::string message;                      ///< one-line summary (the reason when not Ok)
@@ -85,6 +99,21 @@ struct Report {
   int order = 1;
   int midNodes = 0, straightenedMidNodes = 0;  ///< second order: created / put back on the chord
   double minScaledJacobian = 1;                ///< second order: worst curved element (1 = straight)
+  int tetrahedra = 0;                          ///< volume fill: all solids
+  int straightenedTets = 0;                    ///< second order: tet10s put back straight (Jacobian)
+  double minTetJacobian = 1;                   ///< second order: worst tet10's scaled Jacobian
+  std::vector<SolidReport> solids;             ///< volume fill, one per solid of the model
+  int solidsFilled() const {
+    int n = 0;
+    for (const auto& s : solids) n += s.ok;
+    return n;
+  }
+  double tetMinDihedral() const {
+    double m = 180;
+    for (const auto& s : solids)
+      if (s.ok && s.minDihedral < m) m = s.minDihedral;
+    return m;
+  }
   /// nearest-face check: triangles found nearer another face than their own, per meshing round
   /// (the last entry is the final mesh's count; one entry when the first mesh had none)
   std::vector<int> nearestFaceFlagged;

@@ -53,6 +53,36 @@ Json reportToJson(const Report& r) {
     ho["straightened_mid_nodes"] = r.straightenedMidNodes;
     ho["min_scaled_jacobian"] = r.minScaledJacobian;
   }
+  if (!r.solids.empty()) {
+    Json& vol = j["volume"];
+    vol["tetrahedra"] = r.tetrahedra;
+    vol["solids_filled"] = r.solidsFilled();
+    if (r.order == 2) {
+      vol["straightened_tet10"] = r.straightenedTets;
+      vol["min_tet10_scaled_jacobian"] = r.minTetJacobian;
+    }
+    Json& sl = vol["solids"];
+    for (const SolidReport& s : r.solids) {
+      Json o = Json::object();
+      o["solid"] = s.solid;
+      o["ok"] = s.ok;
+      if (!s.ok) o["error"] = s.error;
+      Json& fs = o["faces"];
+      fs = Json::array();
+      for (int f : s.faces) fs.push(f);
+      o["tetrahedra"] = s.tetrahedra;
+      o["interior_nodes"] = s.nodes;
+      o["min_dihedral"] = s.minDihedral;
+      o["mean_dihedral"] = s.meanDihedral;
+      o["max_dihedral"] = s.maxDihedral;
+      o["pct_dihedral_below_10"] = s.pctDihedralBelow10;
+      o["min_radius_ratio"] = s.minRadiusRatio;
+      o["mean_radius_ratio"] = s.meanRadiusRatio;
+      o["volume"] = s.volume;
+      o["seconds"] = s.seconds;
+      sl.push(std::move(o));
+    }
+  }
   Json& st = j["seconds"];
   for (const auto& kv : r.stageSeconds) st[kv.first] = kv.second;
   Json& q = j["quality"];

@@ -325,6 +325,14 @@ class OccModel final : public IGeometryModel {
   }
   double faceTolerance(int f) const override { return BRep_Tool::Tolerance(faceData_[f].face); }
   int faceSolid(int f) const override { return faceData_[f].solid; }
+  std::vector<SolidFace> solidFaces(int s) const override {
+    std::vector<SolidFace> out;
+    for (TopExp_Explorer ex(solids_(s + 1), TopAbs_FACE); ex.More(); ex.Next()) {
+      int fi = faces_.FindIndex(ex.Current()) - 1;
+      if (fi >= 0) out.push_back({fi, ex.Current().Orientation() != faceData_[fi].face.Orientation()});
+    }
+    return out;
+  }
   Box3 boundingBox() const override { return box_; }
   std::string source() const override { return source_; }
   std::vector<std::string> readWarnings() const override { return readWarnings_; }

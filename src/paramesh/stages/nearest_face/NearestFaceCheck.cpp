@@ -109,6 +109,7 @@ void MeshContext::resetMesh() {
   m.numFaces = mesh.numFaces;
   m.numEdges = mesh.numEdges;
   m.numVertices = mesh.numVertices;
+  m.numSolids = mesh.numSolids;
   mesh = std::move(m);
   edges.clear();
   vertexNode.clear();

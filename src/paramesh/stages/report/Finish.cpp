@@ -36,6 +36,16 @@ void MeshContext::finish() {
     if (failed.size() > 5) m += "; ...";
     report.message = m;
   }
+  std::string unfilled;
+  for (const SolidReport& sr : report.solids)
+    if (!sr.ok) unfilled += (unfilled.empty() ? "" : "; ") + ("Solid" + std::to_string(sr.solid) + ": " + sr.error);
+  if (!unfilled.empty() && report.status != RunStatus::Failed) {
+    report.status = RunStatus::Degraded;
+    report.message += (failed.empty() ? "; " : "; and ") + std::string("solids not filled with tetrahedra: ") + unfilled;
+  } else if (!report.solids.empty() && report.status == RunStatus::Ok) {
+    report.message += ", " + std::to_string(report.tetrahedra) + " tetrahedra in " + std::to_string(report.solids.size()) +
+                      " solids";
+  }
   for (size_t k = 0; k < blStats.size(); ++k) {
     BoundaryLayerReport b;
     const auto& st = blStats[k];

@@ -75,6 +75,7 @@ void MeshContext::resolveParams() {
   mesh.numFaces = model.numFaces();
   mesh.numEdges = model.numEdges();
   mesh.numVertices = model.numVertices();
+  mesh.numSolids = model.numSolids();
 }
 
 void MeshContext::findCoincidentTopology() {

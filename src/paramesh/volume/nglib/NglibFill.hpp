@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file NglibFill.hpp
+/// The one place nglib (Netgen's library interface) is called: a closed, outward-oriented
+/// triangle surface in, tetrahedra inside it out. The surface points and triangles are kept as
+/// given (nglib adds interior points only); the caller checks that the tetrahedra's boundary is
+/// the input surface.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "paramesh/util/Vec.hpp"
+
+namespace paramesh {
+
+struct NglibOptions {
+  double maxSize = 0;       ///< largest interior edge (> 0)
+  double grading = 0.3;     ///< nglib's size grading in (0, 1]: the size may grow by about this per size
+  int optimizeSteps = 3;    ///< nglib's 3D optimisation steps (0: none)
+};
+
+struct NglibResult {
+  std::vector<Vec3> interior;                ///< points nglib added (index n + i in tets)
+  std::vector<std::array<int, 4>> tets;      ///< 0-based: < n the input points, >= n interior
+  std::string error;                         ///< nglib's failure ("" when it filled the surface)
+};
+
+/// Fills the closed surface (points, triangles counter-clockwise seen from outside). nglib keeps
+/// global state, so calls are serialised; its console output is silenced for the call.
+NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
+                          const NglibOptions& options);
+
+}  // namespace paramesh
