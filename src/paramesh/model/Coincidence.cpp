@@ -94,6 +94,17 @@ Coincidence findCoincident(const IGeometryModel& m, double tol) {
       }
     }
   }
+  // faces bounded by the same edges (after merging), degenerate edges left out
+  std::map<std::vector<int>, int> firstWith;
+  c.faceCandidate.resize(m.numFaces());
+  for (int f = 0; f < m.numFaces(); ++f) {
+    std::vector<int> key;
+    for (const Wire& w : m.faceWires(f))
+      for (const EdgeUse& u : w.uses)
+        if (!m.edgeDegenerate(u.edge)) key.push_back(c.edgeRep[u.edge]);
+    std::sort(key.begin(), key.end());
+    c.faceCandidate[f] = key.empty() ? f : firstWith.emplace(std::move(key), f).first->second;
+  }
   return c;
 }
 

@@ -77,6 +77,8 @@ struct MeshContext {
   struct FaceStageState {
     std::vector<std::vector<std::pair<int, double>>> strayPcurves;  ///< per face: FaceBoundary::strayPcurves
     bool strayLogged = false;
+    std::vector<int> copyOf;    ///< per face: the coincident face whose triangles it takes (-1: none)
+    std::vector<int> nodeBase;  ///< per face: mesh index of its first own node (assembly)
   } faceStage;
   /// The previous meshing round of the nearest-face check: a face whose edges kept their nodes
   /// and that no new size source reaches keeps its mesh (the size field there is unchanged, and
@@ -230,7 +232,20 @@ struct MeshContext {
   FaceMeshOptions faceOptions() const;
   /// Face f meshed from its boundary (its error in the report when it fails: the others go on).
   void meshOneFace(int f, const FaceMeshOptions& fo, FaceMeshResult& result);
+  // ---------------------------------------------------------------- coincident faces (CoincidentFaces.cpp)
+  /// Face f has a coincident-face candidate before it (Coincidence::faceCandidate).
+  bool isCoincidentCopy(int f) const;
+  /// Each candidate copy takes its source's triangles when the source's nodes and triangle
+  /// centres lie on it (within the faces' tolerances); otherwise it is meshed as a face of its own.
+  void resolveCoincidentFaces(std::vector<FaceMeshResult>& results, const FaceMeshOptions& fo,
+                              const std::vector<char>& reused);
+  /// from (face src's result) as face f's, with (u,v) on f; false when f is not the same region.
+  bool copyFaceMesh(int f, int src, const FaceMeshResult& from, FaceMeshResult& to) const;
+
   // ================================================================ stages/assemble (Assemble.cpp)
+  /// A coincident copy's triangles (its source's orientation) face against its own surface's
+  /// S_u x S_v (the two faces' parametrisations run opposite).
+  bool copyAgainstSurface(int f, const FaceMeshResult& r, int base) const;
   /// Face f's result appended to the mesh (oriented, numbered) and its report counts.
   void assembleFace(int f, FaceMeshResult& r);
   /// The round's results kept for the next nearest-face round (faces it leaves unchanged are reused).

@@ -103,6 +103,8 @@ struct Report {
   int straightenedTets = 0;                    ///< second order: tet10s put back straight (Jacobian)
   double minTetJacobian = 1;                   ///< second order: worst tet10's scaled Jacobian
   std::vector<SolidReport> solids;             ///< volume fill, one per solid of the model
+  /// (source, copy) 1-based faces that coincide without being shared: the copy took the source's triangles
+  std::vector<std::pair<int, int>> coincidentFaces;
   int solidsFilled() const {
     int n = 0;
     for (const auto& s : solids) n += s.ok;

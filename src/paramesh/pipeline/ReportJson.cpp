@@ -53,6 +53,15 @@ Json reportToJson(const Report& r) {
     ho["straightened_mid_nodes"] = r.straightenedMidNodes;
     ho["min_scaled_jacobian"] = r.minScaledJacobian;
   }
+  if (!r.coincidentFaces.empty()) {
+    Json& cf = j["coincident_faces"];
+    for (const auto& [a, b] : r.coincidentFaces) {
+      Json pair = Json::array();
+      pair.push(a);
+      pair.push(b);
+      cf.push(std::move(pair));
+    }
+  }
   if (!r.solids.empty()) {
     Json& vol = j["volume"];
     vol["tetrahedra"] = r.tetrahedra;

@@ -25,7 +25,10 @@ void MeshContext::assembleFace(int f, FaceMeshResult& r) {
     log.warn("Face" + std::to_string(f + 1) + " failed: " + fr.error);
     return;
   }
-  const int base = (int)mesh.nodes.size();
+  const int src = f < (int)faceStage.copyOf.size() ? faceStage.copyOf[f] : -1;
+  // a coincident copy's local nodes are its source face's (assembled before it)
+  const int base = src >= 0 ? faceStage.nodeBase[src] : (int)mesh.nodes.size();
+  faceStage.nodeBase[f] = base;
   for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
   triDeviation.resize(mesh.triangles.size() + r.tris.size(), 0.0);
   for (const auto& od : r.offSurface) {
@@ -35,7 +38,8 @@ void MeshContext::assembleFace(int f, FaceMeshResult& r) {
     if (r.triLayer.empty() && od.second > kOffSurfaceCandidate * std::min(p.size, p.maxSize))
       offSurface.push_back({t, od.second});
   }
-  const bool rev = model.faceReversed(f);
+  bool rev = model.faceReversed(f);
+  if (src >= 0) rev = rev != copyAgainstSurface(f, r, base);
   for (size_t k = 0; k < r.tris.size(); ++k) {
     auto t = r.tris[k];
     auto uv = r.triUv[k];
@@ -85,6 +89,22 @@ void MeshContext::assembleFace(int f, FaceMeshResult& r) {
     }
     fr.overDeviationRadius = std::min(fr.overDeviationRadius, m.radius);
   }
+}
+
+bool MeshContext::copyAgainstSurface(int f, const FaceMeshResult& r, int base) const {
+  const auto s = model.makeSurface(f);
+  int against = 0;
+  for (size_t k = 0; k < r.tris.size(); ++k) {
+    Vec3 x[3];
+    for (int i = 0; i < 3; ++i) {
+      const int v = r.tris[k][i];
+      x[i] = mesh.nodes[v < 0 ? base + (-v - 1) : v];
+    }
+    const Vec2 c = (1.0 / 3.0) * (r.triUv[k][0] + r.triUv[k][1] + r.triUv[k][2]);
+    Vec3 n;
+    if (s->normal(c, n)) against += dot(cross(x[1] - x[0], x[2] - x[0]), n) < 0 ? 1 : -1;
+  }
+  return against > 0;
 }
 
 void MeshContext::keepForNextRound(std::vector<FaceMeshResult>&& results) {

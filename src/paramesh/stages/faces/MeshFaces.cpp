@@ -143,15 +143,17 @@ void MeshContext::meshFaces() {
   const FaceMeshOptions fo = faceOptions();
   const std::vector<char> reused = reusePreviousRound(results);
   parallelFor(nf, threads, [&](int f) {
-    if (reused[f]) return;
+    if (reused[f] || isCoincidentCopy(f)) return;
     meshOneFace(f, fo, results[f]);
     const int k = ++done;
     progress.report(0.15 + 0.8 * k / std::max(nf, 1), "faces");
   }, &order);
+  resolveCoincidentFaces(results, fo, reused);
   stage("faces", tm.seconds());
   logStrayPcurves();
   // assemble in face order (deterministic)
   Timer ta;
+  faceStage.nodeBase.assign(nf, 0);
   for (int f = 0; f < nf; ++f) assembleFace(f, results[f]);
   stage("assemble", ta.seconds());
   if (fo.reportOffSurface && blLaws.empty()) keepForNextRound(std::move(results));
@@ -178,7 +180,8 @@ std::vector<char> MeshContext::reusePreviousRound(std::vector<FaceMeshResult>& r
   const SourceReach near(std::move(at), std::move(reach));
   int kept = 0;
   for (int f = 0; f < nf; ++f) {
-    bool ok = !prev->points[f].empty() || !prev->reports[f].ok;
+    // a coincident copy is taken from its source again (its triangles name the source's nodes)
+    bool ok = (!prev->points[f].empty() || !prev->reports[f].ok) && !isCoincidentCopy(f);
     if (f < (int)rounds.zonesAdded.size() && rounds.zonesAdded[f]) ok = false;
     for (const Wire& w : model.faceWires(f))
       for (const EdgeUse& u : w.uses) ok = ok && edgeSame[same.edgeRep[u.edge]];
