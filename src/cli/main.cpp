@@ -60,6 +60,7 @@ const char* kUsage =
     "  --volume              fill every closed solid with tetrahedra (tet4, tet10 with --order 2)\n"
     "                        bounded by the surface triangles\n"
     "  --volume-max-size H   largest tetrahedron edge inside the solids (default: --max-size)\n"
+    "  --volume-optimize N   nglib optimisation passes on the tetrahedra (default 1)\n"
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
     "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
@@ -182,6 +183,7 @@ int cmdMesh(int argc, char** argv) {
     else if (a == "--quads") p.quads = true;
     else if (a == "--volume") p.volume = true;
     else if (a == "--volume-max-size") p.volumeMaxSize = parseNumber(a, next());
+    else if (a == "--volume-optimize") p.volumeOptimize = parseInt(a, next());
     else if (a == "--report") report = next();
     else if (a == "--png") png = next();
     else if (a == "--view") {

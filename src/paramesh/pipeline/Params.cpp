@@ -44,6 +44,8 @@ void MeshParams::validate() const {
   checkedMaxElements((double)maxElements);
   if (!finite(volumeMaxSize) || volumeMaxSize < 0)
     throw ParameterError("volume_max_size must be a positive length (got " + num(volumeMaxSize) + ")");
+  if (volumeOptimize < 0 || volumeOptimize > 10)
+    throw ParameterError("volume_optimize must be in [0, 10] passes (got " + std::to_string(volumeOptimize) + ")");
   if (volume && quads)
     throw ParameterError("volume: the tetrahedra need a triangle surface mesh; leave out quads (--quads)");
   for (size_t i = 0; i < boundaryLayers.size() && volume; ++i)

@@ -62,6 +62,9 @@ struct MeshParams {
   /// Largest tetrahedron edge inside the solids; 0: max_size (the interior grows from the surface
   /// sizes at the grading up to it).
   double volumeMaxSize = 0;
+  /// nglib's 3D optimisation passes after the fill (swaps, smoothing); each costs about as much
+  /// as the fill itself (docs/tuning/volume.md).
+  int volumeOptimize = 1;
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;
 

@@ -114,6 +114,7 @@ void applyParamsJson(const std::string& text, MeshParams& p) {
     else if (k == "quads") p.quads = boolean(v, k);
     else if (k == "volume") p.volume = boolean(v, k);
     else if (k == "volume_max_size") p.volumeMaxSize = num(v, k);
+    else if (k == "volume_optimize") p.volumeOptimize = integer(v, k);
     else if (k == "optimize_passes") p.optimizePasses = integer(v, k);
     else if (k == "max_elements") p.maxElements = checkedMaxElements(num(v, k));
     else if (k == "proximity") p.proximity = integer(v, k);

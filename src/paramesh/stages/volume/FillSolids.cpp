@@ -3,7 +3,7 @@
 /// Volume stage: every solid filled with tetrahedra bounded by its faces' triangles (nglib makes
 /// the interior; the surface stays ours), checked against that surface, measured. A solid that
 /// cannot be filled is reported with the reason; the others are filled. Reads model, mesh,
-/// p.volumeMaxSize, p.maxSize, p.grading; writes mesh (interior nodes, tets, tetSolid),
+/// p.volumeMaxSize, p.maxSize, p.grading, p.volumeOptimize; writes mesh (interior nodes, tets, tetSolid),
 /// report.solids, report.tetrahedra.
 #include <algorithm>
 #include <string>
@@ -25,6 +25,7 @@ void MeshContext::fillSolids() {
   for (int f : mesh.quadFace) ++quadsOfFace[f - 1];
   NglibOptions opt;
   opt.maxSize = p.volumeMaxSize > 0 ? p.volumeMaxSize : p.maxSize;
+  opt.optimizeSteps = p.volumeOptimize;
   opt.grading = std::clamp(p.grading - 1.0, 0.05, 1.0);  // nglib's grading: size growth per size
   const int n = model.numSolids();
   for (int s = 0; s < n; ++s) {
