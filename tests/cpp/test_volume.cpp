@@ -21,6 +21,7 @@
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/pipeline/Mesher.hpp"
 #include "paramesh/stages/volume/SolidSurface.hpp"
+#include "paramesh/volume/SelfIntersection.hpp"
 #include "paramesh/volume/Tet10.hpp"
 #include "paramesh/volume/TetQuality.hpp"
 
@@ -253,4 +254,27 @@ TEST(Volume, QuadsAreRefusedWithTheReason) {
   } catch (const ParameterError& e) {
     EXPECT_NE(std::string(e.what()).find("triangle surface"), std::string::npos);
   }
+}
+
+TEST(SelfIntersection, CrossingTrianglesAreFoundTouchingOnesAreNot) {
+  std::vector<Vec3> x = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0},           // A in z = 0
+                         {0.5, 0.5, -1}, {0.5, 0.5, 1}, {1.5, 1.5, 1},  // B pierces A
+                         {0, 0, 0}, {-1, 0, 1}, {0, -1, 1}};          // C touches A's corner only
+  std::vector<std::array<int, 3>> t = {{0, 1, 2}, {3, 4, 5}, {0, 7, 8}};
+  auto pairs = crossingTriangles(x, t);
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(pairs[0], std::make_pair(0, 1));
+  // a closed box surface from the mesher has none
+  auto g = loadOccModelFromBrepString(toBrep(BRepPrimAPI_MakeBox(10, 10, 10).Shape()));
+  MeshParams p;
+  p.size = 2.0;
+  SurfaceMesh m = Mesher(*g, p).run().mesh;
+  EXPECT_TRUE(crossingTriangles(m.nodes, m.triangles).empty());
+  // one node pushed through the opposite face: crossings found
+  for (std::size_t i = 0; i < m.nodes.size(); ++i)
+    if (m.nodeKind[i] == NodeKind::Face && m.nodes[i].z == 10.0) {
+      m.nodes[i].z = -1.0;
+      break;
+    }
+  EXPECT_FALSE(crossingTriangles(m.nodes, m.triangles).empty());
 }

@@ -6,16 +6,43 @@
 /// p.volumeMaxSize, p.maxSize, p.grading, p.volumeOptimize; writes mesh (interior nodes, tets, tetSolid),
 /// report.solids, report.tetrahedra.
 #include <algorithm>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/stages/volume/SolidSurface.hpp"
 #include "paramesh/util/Format.hpp"
+#include "paramesh/volume/SelfIntersection.hpp"
 #include "paramesh/volume/TetQuality.hpp"
 #include "paramesh/volume/nglib/NglibFill.hpp"
 
 namespace paramesh {
+
+namespace {
+
+/// "" when the surface does not cross itself; otherwise how many triangle pairs cross and on
+/// which faces.
+std::string crossingFaces(const SolidSurface& surf, const std::vector<Vec3>& nodes) {
+  const auto pairs = crossingTriangles(nodes, surf.triangles);
+  if (pairs.empty()) return {};
+  std::set<std::pair<int, int>> faces;
+  for (const auto& [a, b] : pairs)
+    faces.insert({std::min(surf.triangleFace[a], surf.triangleFace[b]), std::max(surf.triangleFace[a], surf.triangleFace[b])});
+  std::string s = "its surface mesh crosses itself (" + std::to_string(pairs.size()) +
+                  (pairs.size() >= 20 ? "+" : "") + " triangle pairs:";
+  int n = 0;
+  for (const auto& [a, b] : faces) {
+    if (n++ == 5) {
+      s += " ...";
+      break;
+    }
+    s += (n > 1 ? ", Face" : " Face") + std::to_string(a) + (a == b ? " with itself" : " x Face" + std::to_string(b));
+  }
+  return s + ")";
+}
+
+}  // namespace
 
 void MeshContext::fillSolids() {
   Timer total;
@@ -36,6 +63,7 @@ void MeshContext::fillSolids() {
     const SolidSurface surf = solidSurface(model, s, mesh, trianglesOfFace, quadsOfFace);
     sr.faces = surf.faces;
     std::string why = surf.problem;
+    if (why.empty()) why = crossingFaces(surf, mesh.nodes);
     if (why.empty()) {
       // the solid's own numbering of its surface nodes
       std::vector<int> local(mesh.nodes.size(), -1), global;

@@ -34,7 +34,7 @@ SolidSurface solidSurface(const IGeometryModel& g, int solid, const SurfaceMesh&
   const std::vector<SolidFace> sf = g.solidFaces(solid);
   std::vector<int> uses(g.numFaces(), 0);
   std::set<int> empty, twice, withQuads;
-  std::vector<int> triFace;  // per collected triangle: its 1-based face
+  std::vector<int>& triFace = out.triangleFace;
   for (const SolidFace& f : sf) ++uses[f.face];
   for (const SolidFace& f : sf) {
     if (uses[f.face] > 1) twice.insert(f.face + 1);

@@ -15,6 +15,7 @@ namespace paramesh {
 struct SolidSurface {
   std::vector<int> faces;                       ///< 1-based faces bounding the solid
   std::vector<std::array<int, 3>> triangles;    ///< mesh node indices, counter-clockwise seen from outside
+  std::vector<int> triangleFace;                ///< 1-based face of each
   std::string problem;                          ///< why it cannot be filled ("" when closed and oriented)
 };
 
