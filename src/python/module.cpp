@@ -54,6 +54,20 @@ py::array_t<int32_t> intVector(const std::vector<int>& v) {
   return owned(std::move(d), {(py::ssize_t)v.size()});
 }
 
+/// Tetrahedra as (K, 4) corners, or (K, 10) corners then mid-nodes when the mesh has them.
+py::array_t<int32_t> tetArray(const SurfaceMesh& m) {
+  const size_t k = m.tets.size();
+  const bool mid = m.order == 2 && m.tetMid.size() == k;
+  const size_t w = mid ? 10 : 4;
+  std::vector<int32_t> d(k * w);
+  for (size_t i = 0; i < k; ++i) {
+    for (size_t c = 0; c < 4; ++c) d[i * w + c] = m.tets[i][c];
+    if (mid)
+      for (size_t c = 0; c < 6; ++c) d[i * w + 4 + c] = m.tetMid[i][c];
+  }
+  return owned(std::move(d), {(py::ssize_t)k, (py::ssize_t)w});
+}
+
 /// A geometry model held by Python (shared so that a Mesher keeps it alive).
 struct PyModel {
   std::shared_ptr<IGeometryModel> m;
@@ -192,6 +206,8 @@ void bindParams(py::module_& mod) {
       .def_readwrite("proximity", &MeshParams::proximity)
       .def_readwrite("nearest_face_check", &MeshParams::nearestFaceCheck)
       .def_readwrite("nearest_face_budget", &MeshParams::nearestFaceBudget)
+      .def_readwrite("volume", &MeshParams::volume)
+      .def_readwrite("volume_max_size", &MeshParams::volumeMaxSize)
       .def_readwrite("local_sizes", &MeshParams::localSizes)
       .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)
       .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");
@@ -275,9 +291,9 @@ void bindResult(py::module_& mod) {
             std::vector<int> k(r.mesh.nodeKind.size());
             for (size_t i = 0; i < k.size(); ++i) k[i] = (int)r.mesh.nodeKind[i];
             return intVector(k);
-          }, "(N,) int32 dimension of the CAD entity of each node (0 vertex, 1 edge, 2 face)")
+          }, "(N,) int32 dimension of the CAD entity of each node (0 vertex, 1 edge, 2 face, 3 inside a solid)")
       .def_property_readonly("node_entity", [](const PyResult& r) { return intVector(r.mesh.nodeEntity); },
-                             "(N,) int32 1-based CAD vertex/edge/face number of each node")
+                             "(N,) int32 1-based CAD vertex/edge/face/solid number of each node")
       .def_property_readonly("node_param", [](const PyResult& r) { return vec2Array(r.mesh.nodeParam); },
                              "(N, 2) float64: (t, 0) on edges, (u, v) on faces")
       .def_property_readonly("segments", [](const PyResult& r) { return intArray(r.mesh.segments); },
@@ -289,6 +305,12 @@ void bindResult(py::module_& mod) {
                              "(M, 3) int32 mid-edge nodes (ab, bc, ca) when order == 2")
       .def_property_readonly("quad_mid", [](const PyResult& r) { return intArray(r.mesh.quadMid); },
                              "(K, 4) int32 mid-edge nodes when order == 2")
+      .def_property_readonly("tetrahedra", [](const PyResult& r) { return tetArray(r.mesh); },
+                             "(K, 4) int32 corners, positive volume ((b-a)x(c-a)).(d-a) > 0; (K, 10) when "
+                             "order == 2: corners then the mid-nodes of ab, bc, ca, ad, bd, cd (CalculiX C3D10)")
+      .def_property_readonly("tetra_solid", [](const PyResult& r) { return intVector(r.mesh.tetSolid); },
+                             "(K,) int32 1-based CAD solid of each tetrahedron (FreeCAD's Solid<i>)")
+      .def_property_readonly("num_solids", [](const PyResult& r) { return r.mesh.numSolids; })
       .def_property_readonly("report_json", [](const PyResult& r) { return reportToJson(r.report).dump(); })
       .def(
           "write",

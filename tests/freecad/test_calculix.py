@@ -15,29 +15,18 @@ import ObjectsFem
 
 import freecad.paramesh as pm
 
+import fem_helpers as fh
+
 pytestmark = pytest.mark.skipif(shutil.which("ccx") is None, reason="calculix-ccx is not installed")
 
 PRESSURE = 0.01  # MPa
 
 
 def _plate_analysis(name):
-    doc = FreeCAD.newDocument(name)
-    plate = doc.addObject("Part::Feature", "Plate")
-    plate.Shape = Part.makePlane(200, 100)
-    an = ObjectsFem.makeAnalysis(doc, "Analysis")
-    solver = ObjectsFem.makeSolverCalculixCcxTools(doc, "CCX")
-    solver.WorkingDir = tempfile.mkdtemp(prefix="paramesh_ccx_")
-    an.addObject(solver)
-    mat = ObjectsFem.makeMaterialSolid(doc, "Steel")
-    m = mat.Material
-    m.update({"Name": "Steel", "YoungsModulus": "210000 MPa", "PoissonRatio": "0.3", "Density": "7900 kg/m^3"})
-    mat.Material = m
-    an.addObject(mat)
+    doc, plate, an, solver = fh.analysis(name, Part.makePlane(200, 100), tempfile.mkdtemp(prefix="paramesh_ccx_"))
     an.addObject(ObjectsFem.makeElementGeometry2D(doc, 2.0, "Thickness"))
     short = [i + 1 for i, e in enumerate(plate.Shape.Edges) if e.BoundBox.XMax < 1e-9][0]
-    fix = ObjectsFem.makeConstraintFixed(doc, "Clamp")
-    fix.References = [(plate, f"Edge{short}")]
-    an.addObject(fix)
+    fh.fix(doc, an, plate, [f"Edge{short}"])
     pr = ObjectsFem.makeConstraintPressure(doc, "Pressure")
     pr.References = [(plate, "Face1")]
     pr.Pressure = PRESSURE
@@ -46,20 +35,8 @@ def _plate_analysis(name):
 
 
 def _solve(doc, an, solver):
-    from femtools import ccxtools
-    doc.recompute()
-    fea = ccxtools.FemToolsCcx(an, solver)
-    fea.update_objects()
-    fea.setup_working_dir()
-    fea.setup_ccx()
-    msg = fea.check_prerequisites()
-    assert not msg, msg
-    fea.write_inp_file()
-    fea.ccx_run()
-    fea.load_results()
-    res = [o for o in an.Group if o.isDerivedFrom("Fem::FemResultObject")]
-    assert res, "CalculiX produced no result"
-    return max(abs(v.z) for v in res[0].DisplacementVectors)
+    res, _fea = fh.solve(doc, an, solver)
+    return max(abs(v.z) for v in res.DisplacementVectors)
 
 
 @pytest.fixture(scope="module")

@@ -13,8 +13,8 @@ def _attach_view(obj, module, cls):
 
 def make_surface_mesh(doc, part_object=None, name="ParaMeshSurface", **params):
     """A ParaMesh surface mesh object (Fem::FemMeshObjectPython) linked to part_object; keyword
-    parameters (size, min_size, curvature_angle, grading, order, quads, threads...) set its
-    properties. Not meshed until recompute."""
+    parameters (size, min_size, curvature_angle, grading, order, quads, threads, volume,
+    volume_max_size...) set its properties. Not meshed until recompute."""
     from .objects.surface_mesh import SurfaceMesh
     obj = doc.addObject("Fem::FemMeshObjectPython", name)
     SurfaceMesh(obj)
@@ -22,7 +22,8 @@ def make_surface_mesh(doc, part_object=None, name="ParaMeshSurface", **params):
         obj.Part = part_object
     mapping = {"size": "Size", "min_size": "MinSize", "max_size": "MaxSize", "curvature_angle": "CurvatureAngle",
                "max_deviation": "MaxDeviation", "grading": "Grading", "threads": "Threads",
-               "optimize_passes": "OptimizePasses", "quads": "Quads"}
+               "optimize_passes": "OptimizePasses", "quads": "Quads", "volume": "Volume3D",
+               "volume_max_size": "VolumeMaxSize"}
     bl = params.pop("boundary_layers", None)
     ls = params.pop("local_sizes", None)
     for k, v in params.items():

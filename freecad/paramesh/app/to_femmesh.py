@@ -74,37 +74,69 @@ def _chunks(n, cancelled):
         yield s, min(n, s + _CHUNK)
 
 
-def _add_rows(fm, rows, first_id, cancelled):
-    """fm.addFace(row, id) for each row (ids from first_id), a chunk at a time (the loop runs inside
-    map, in C; numpy -> list conversion per chunk, so no single call holds the GIL for long)."""
-    add = fm.addFace
+def _add_rows(fm, rows, first_id, cancelled, add=None):
+    """add(row, id) (default fm.addFace) for each row (ids from first_id), a chunk at a time (the
+    loop runs inside map, in C; numpy -> list conversion per chunk, so no single call holds the GIL
+    for long)."""
+    add = add or fm.addFace
     for s, e in _chunks(len(rows), cancelled):
         for _ in map(add, rows[s:e].tolist(), range(first_id + s, first_id + e)):
             pass
 
 
+#: our tetrahedron (CalculiX C3D4 / C3D10 order: positive volume, mid-nodes ab, bc, ca, ad, bd, cd)
+#: -> SMDS's (FemMesh.addVolume): the first two corners swapped, and the mid-nodes with them. The
+#: inverse of FreeCAD 0.20's own maps (FemMesh::writeABAQUS and getccxVolumesByFace read SMDS node
+#: [1, 0, 2, 3] as C3D4's [0, 1, 2, 3]); tests/freecad/test_volume_fem.py checks the .inp it writes.
+SMDS_TETRA4 = [1, 0, 2, 3]
+SMDS_TETRA10 = [1, 0, 2, 3, 4, 6, 5, 8, 7, 9]
+
+
+def smds_tetrahedra(tets):
+    """(K, 4) / (K, 10) tetrahedra in our (CalculiX) node order -> the same in SMDS order."""
+    tets = np.asarray(tets)
+    return tets[:, SMDS_TETRA10 if tets.shape[1] == 10 else SMDS_TETRA4]
+
+
+def _add_groups(fm, keys, first_id, prefix, kind):
+    """One group '<prefix><key>' of element type kind per distinct key > 0; element i has id
+    first_id + i. One call per group: FemMesh.addGroupElements walks every element of the mesh on
+    each call (FreeCAD 0.20), so calls are not split."""
+    keys = np.asarray(keys, dtype=np.int64)
+    ids = np.arange(first_id, first_id + len(keys))
+    order = np.argsort(keys, kind="stable")
+    keys, ids = keys[order], ids[order]
+    bounds = np.flatnonzero(np.diff(keys)) + 1
+    for chunk_k, chunk_ids in zip(np.split(keys, bounds), np.split(ids, bounds)):
+        if len(chunk_k) and chunk_k[0] > 0:
+            fm.addGroupElements(fm.addGroup(f"{prefix}{int(chunk_k[0])}", kind), chunk_ids.tolist())
+
+
 def add_result_groups(fm, result):
-    """Adds to a FemMesh built from result one face group per CAD face, 'Face<i>', and one per
-    boundary-layer spec, 'BoundaryLayer<k>'. One call per group: FemMesh.addGroupElements walks
-    every element of the mesh on each call (FreeCAD 0.20), so calls are not split."""
-    faces = np.concatenate([result.triangle_face, result.quad_face]).astype(np.int64)
-    ids = np.arange(1, len(faces) + 1)
-    order = np.argsort(faces, kind="stable")
-    faces, ids = faces[order], ids[order]
-    bounds = np.flatnonzero(np.diff(faces)) + 1
-    for chunk_f, chunk_ids in zip(np.split(faces, bounds), np.split(ids, bounds)):
-        if len(chunk_f):
-            fm.addGroupElements(fm.addGroup(f"Face{int(chunk_f[0])}", "Face"), chunk_ids.tolist())
+    """Adds to a FemMesh built from result one face group per CAD face, 'Face<i>', one per
+    boundary-layer spec, 'BoundaryLayer<k>', and with tetrahedra one volume group per solid,
+    'Solid<i>'."""
+    faces = np.concatenate([result.triangle_face, result.quad_face])
+    _add_groups(fm, faces, 1, "Face", "Face")
     # one group per boundary-layer spec: BoundaryLayer1, BoundaryLayer2, ... (spec order)
-    layer = np.concatenate([result.triangle_layer, result.quad_layer]).astype(np.int64)
-    for k in np.unique(layer[layer > 0]).tolist():
-        fm.addGroupElements(fm.addGroup(f"BoundaryLayer{k}", "Face"), (np.flatnonzero(layer == k) + 1).tolist())
+    _add_groups(fm, np.concatenate([result.triangle_layer, result.quad_layer]), 1, "BoundaryLayer", "Face")
+    tets = _tetrahedra(result)
+    if len(tets):
+        _add_groups(fm, result.tetra_solid, len(faces) + 1, "Solid", "Volume")
+
+
+def _tetrahedra(result):
+    t = getattr(result, "tetrahedra", None)
+    return np.zeros((0, 4), dtype=np.int32) if t is None else np.asarray(t)
 
 
 def result_to_femmesh(result, groups=True, femmesh=None, cancelled=None):
     """A Fem.FemMesh: tria3/quad4 (tria6/quad8 when order 2), node ids = index + 1, element ids
-    consecutive (triangles then quads), one face group per CAD face named 'Face<i>' and one per
-    boundary-layer spec named 'BoundaryLayer<k>'.
+    consecutive (triangles, then quads, then tetrahedra: Tetra4, Tetra10 when order 2), one face
+    group per CAD face named 'Face<i>', one per boundary-layer spec named 'BoundaryLayer<k>' and
+    one volume group per solid named 'Solid<i>'. With tetrahedra the surface triangles stay in the
+    mesh: FreeCAD's CalculiX writer then writes the volumes only (highest dimension) and finds the
+    mesh faces of a constraint's CAD face among the triangles (getFacesByFace).
 
     femmesh: an empty Fem.FemMesh to fill (else a new one). The GUI creates it on its own thread
     and fills it in the meshing worker (groups=False; add_result_groups later, on the GUI thread):
@@ -131,6 +163,9 @@ def result_to_femmesh(result, groups=True, femmesh=None, cancelled=None):
         Q = np.concatenate([Q, np.asarray(result.quad_mid, dtype=np.int64) + 1], axis=1) if len(Q) else Q
     _add_rows(fm, T, 1, cancelled)
     _add_rows(fm, Q, len(T) + 1, cancelled)
+    tets = _tetrahedra(result)
+    if len(tets):
+        _add_rows(fm, smds_tetrahedra(tets.astype(np.int64) + 1), len(T) + len(Q) + 1, cancelled, fm.addVolume)
     if groups:
         add_result_groups(fm, result)
     return fm

@@ -48,6 +48,12 @@ class MeshResult:
     triangles then quads; ``node_dim`` (N,) 0/1/2 (vertex/edge/face) and ``node_entity`` (N,) its
     1-based number; ``node_param`` (N, 2); ``segments`` (S, 2) and ``segment_edge`` (S,) the mesh
     edges on CAD edges. ``report`` is the run report (dict); ``faces`` its per-face list.
+
+    With ``volume=True``: ``tetrahedra`` (K, 4) int32 of positive volume (((b-a)x(c-a)).(d-a) > 0,
+    CalculiX C3D4 order), (K, 10) at order 2 (corners, then the mid-nodes of ab, bc, ca, ad, bd,
+    cd: C3D10 order); ``tetra_solid`` (K,) int32 1-based CAD solid (FreeCAD's Solid<i>); nodes
+    inside a solid have ``node_dim`` 3 and ``node_entity`` the solid; ``solids`` is the report's
+    per-solid list (tetrahedra, dihedral angles, radius ratio, volume, error when not filled).
     """
 
     def __init__(self, native_result):
@@ -82,6 +88,11 @@ class MeshResult:
         return self.report["faces"]
 
     @property
+    def solids(self):
+        """The report's per-solid volume entries ([] without volume=True)."""
+        return self.report.get("volume", {}).get("solids", [])
+
+    @property
     def failed_faces(self):
         return [f for f in self.faces if f["status"] != "ok"]
 
@@ -99,14 +110,17 @@ class MeshResult:
         return result_to_mesh(self)
 
     def to_femmesh(self, groups=True):
-        """A FreeCAD Fem.FemMesh with one face group per CAD face named 'Face<i>' (needs FreeCAD)."""
+        """A FreeCAD Fem.FemMesh with one face group per CAD face named 'Face<i>' (needs FreeCAD);
+        with tetrahedra, Tetra4/Tetra10 volumes too (after the surface elements) and one volume
+        group per solid named 'Solid<i>'."""
         from ..app.to_femmesh import result_to_femmesh
         return result_to_femmesh(self, groups=groups)
 
     def __repr__(self):
         r = self.report
+        tets = f", {r['volume']['tetrahedra']} tetrahedra" if "volume" in r else ""
         return (f"<MeshResult {r['status']}: {r['counts']['nodes']} nodes, {r['counts']['triangles']} triangles, "
-                f"{r['counts']['quads']} quads>")
+                f"{r['counts']['quads']} quads{tets}>")
 
 
 class MeshJob:
@@ -167,7 +181,8 @@ def mesh_shape(shape_or_path, progress=None, log=None, **params):
     """Meshes a Part.Shape, a STEP/IGES/BREP file path or a BREP string; returns a MeshResult.
 
     Parameters are the CLI's options in snake_case (see MeshParams): size, min_size, max_size,
-    curvature_angle, max_deviation, grading, threads, order, quads, local_sizes, boundary_layers.
+    curvature_angle, max_deviation, grading, threads, order, quads, local_sizes, boundary_layers,
+    volume (tetrahedra in every closed solid), volume_max_size.
     """
     return MeshJob(shape_or_path, **params).run(progress=progress, log=log)
 

@@ -34,6 +34,10 @@ FIELDS = {
     "nearest_face_budget": ("fraction", "By default the nearest-face refinement is kept when it adds at most "
                             "this fraction of triangles (0.1 = 10 %); otherwise the unrefined mesh is kept "
                             "and the report warns. 0: no automatic check."),
+    "volume": ("bool", "Also fill every closed solid with tetrahedra (tet4, tet10 at order 2) bounded by the "
+               "surface triangles; needs a triangle surface mesh (no quads, triangle boundary layers)."),
+    "volume_max_size": ("length", "Largest tetrahedron edge inside the solids. 0: max_size (the interior grows "
+                        "from the surface sizes at the grading up to it)."),
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
@@ -54,6 +58,12 @@ def _number(name, v, lo=None, hi=None, lo_open=False, integer=False):
         raise ValueError(f"{name} must be {'>' if lo_open else '>='} {lo}, got {v!r}")
     if hi is not None and v > hi:
         raise ValueError(f"{name} must be <= {hi}, got {v!r}")
+    return v
+
+
+def _boolean(name, v):
+    if not isinstance(v, bool):
+        raise TypeError(f"{name} must be True or False, got {v!r}")
     return v
 
 
@@ -142,16 +152,14 @@ class BoundaryLayer:
 
     def validate(self, i=0):
         tag = f"boundary_layers[{i}]"
-        if not isinstance(self.auto, bool):
-            raise TypeError(f"{tag}.auto must be True or False, got {self.auto!r}")
+        _boolean(f"{tag}.auto", self.auto)
         self.edges = _indices(f"{tag}.edges", self.edges) if (self.edges or not self.auto) else []
         self.first_height = _number(f"{tag}.first_height", self.first_height, lo=0, lo_open=not self.auto)
         self.growth = _number(f"{tag}.growth", self.growth, lo=1.0, hi=5.0)
         self.layers = _number(f"{tag}.layers", self.layers, lo=0, hi=1000, integer=True)
         self.thickness = _number(f"{tag}.thickness", self.thickness, lo=0)
         self.max_aspect = _number(f"{tag}.max_aspect", self.max_aspect, lo=0)
-        if not isinstance(self.quads, bool):
-            raise TypeError(f"{tag}.quads must be True or False, got {self.quads!r}")
+        _boolean(f"{tag}.quads", self.quads)
         if self.layers == 0 and self.thickness == 0:
             if not self.auto:
                 raise ValueError(f"{tag}: give layers or thickness")
@@ -176,6 +184,8 @@ class MeshParams:
     proximity: int = 0
     nearest_face_check: bool = False
     nearest_face_budget: float = 0.10
+    volume: bool = False
+    volume_max_size: float = 0.0
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
 
@@ -200,14 +210,14 @@ class MeshParams:
         self.grading = _number("grading", self.grading, lo=1.0, lo_open=True, hi=10)
         self.threads = _number("threads", self.threads, lo=0, hi=1024, integer=True)
         self.order = _number("order", self.order, lo=1, hi=2, integer=True)
-        if not isinstance(self.quads, bool):
-            raise TypeError(f"quads must be True or False, got {self.quads!r}")
+        _boolean("quads", self.quads)
         self.optimize_passes = _number("optimize_passes", self.optimize_passes, lo=0, hi=100, integer=True)
         self.max_elements = _number("max_elements", self.max_elements, lo=1000, hi=1e10, integer=True)
         self.proximity = _number("proximity", self.proximity, lo=0, hi=100, integer=True)
-        if not isinstance(self.nearest_face_check, bool):
-            raise TypeError(f"nearest_face_check must be True or False, got {self.nearest_face_check!r}")
+        _boolean("nearest_face_check", self.nearest_face_check)
         self.nearest_face_budget = _number("nearest_face_budget", self.nearest_face_budget, lo=0, hi=10)
+        _boolean("volume", self.volume)
+        self.volume_max_size = _number("volume_max_size", self.volume_max_size, lo=0)
         if isinstance(self.local_sizes, (dict, str, LocalSize)):
             self.local_sizes = [self.local_sizes]
         if isinstance(self.boundary_layers, (dict, BoundaryLayer)):
@@ -225,7 +235,7 @@ class MeshParams:
         n = _native.MeshParams()
         for name in ("size", "min_size", "max_size", "curvature_angle", "max_deviation", "grading",
                      "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check",
-                     "nearest_face_budget", "max_elements"):
+                     "nearest_face_budget", "max_elements", "volume", "volume_max_size"):
             setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:

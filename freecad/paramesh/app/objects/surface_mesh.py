@@ -42,6 +42,8 @@ class SurfaceMesh(BaseProxy):
         add_property(obj, "App::PropertyInteger", "Threads", GROUP, _tip("threads"), 0)
         add_property(obj, "App::PropertyInteger", "OptimizePasses", GROUP, _tip("optimize_passes"), 4)
         add_property(obj, "App::PropertyInteger", "MaxElements", GROUP, _tip("max_elements"), 50000000)
+        add_property(obj, "App::PropertyBool", "Volume3D", GROUP, "3D: " + _tip("volume"), False)
+        add_property(obj, "App::PropertyLength", "VolumeMaxSize", GROUP, _tip("volume_max_size"), 0.0)
         add_property(obj, "App::PropertyLinkList", "BoundaryLayerList", GROUP,
                      "ParaMesh boundary-layer objects applied to this mesh")
         add_property(obj, "App::PropertyLinkList", "LocalSizeList", GROUP,
@@ -66,7 +68,9 @@ class SurfaceMesh(BaseProxy):
                        proximity=int(getattr(obj, "Proximity", 0)),
                        nearest_face_check=bool(getattr(obj, "NearestFaceCheck", False)),
                        nearest_face_budget=float(getattr(obj, "NearestFaceBudget", 0.10)),
-                       max_elements=int(getattr(obj, "MaxElements", 50000000)))
+                       max_elements=int(getattr(obj, "MaxElements", 50000000)),
+                       volume=bool(getattr(obj, "Volume3D", False)),
+                       volume_max_size=float(getattr(obj, "VolumeMaxSize", 0.0)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
