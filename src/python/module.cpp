@@ -208,6 +208,7 @@ void bindParams(py::module_& mod) {
       .def_readwrite("nearest_face_budget", &MeshParams::nearestFaceBudget)
       .def_readwrite("volume", &MeshParams::volume)
       .def_readwrite("volume_max_size", &MeshParams::volumeMaxSize)
+      .def_readwrite("volume_optimize", &MeshParams::volumeOptimize)
       .def_readwrite("local_sizes", &MeshParams::localSizes)
       .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)
       .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");

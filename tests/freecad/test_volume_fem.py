@@ -136,8 +136,10 @@ def test_surface_mesh_object_3d_property_saves_and_reopens(tmp_path):
     doc = FreeCAD.newDocument("vol3d")
     part = doc.addObject("Part::Feature", "Box")
     part.Shape = Part.makeBox(10, 20, 30)
-    obj = pm.make_fem_mesh(doc, part, size=4.0)
+    obj = pm.make_fem_mesh(doc, part, size=4.0, volume_max_size=3.0, volume_optimize=2)
     assert obj.Volume3D is False and obj.FemMesh.VolumeCount == 0 and "volume" not in obj.Proxy.last_result(obj).report
+    p = obj.Proxy.params(obj)
+    assert (p.volume, p.volume_max_size, p.volume_optimize) == (False, 3.0, 2)
     obj.Volume3D = True
     doc.recompute()
     report = obj.Proxy.last_result(obj).report

@@ -11,7 +11,8 @@ status 0 (all checks passed) or 1.
 This file is the driver: it runs the steps in order, each guarded, writes the summary and
 holds the watchdog. The steps are in gui_steps_setup.py (workbench, document, surface mesh,
 cancel, second order), gui_steps_children.py (boundary layer, local size), gui_steps_output.py
-(quality, export, Mesh feature, save and reopen) and gui_steps_latency.py; what they share
+(quality, export, Mesh feature, save and reopen), gui_steps_volume.py (the 3D option on a
+two-solid part) and gui_steps_latency.py; what they share
 (check, log, waiting, screenshots, panel helpers) is in gui_harness.py.
 """
 import faulthandler
@@ -39,6 +40,7 @@ from gui_steps_children import step_boundary_layer, step_local_size  # noqa: E40
 from gui_steps_output import (step_export, step_quality, step_reopened_quality_and_export,  # noqa: E402
                               step_save_reopen, step_to_mesh)
 from gui_steps_latency import step_latency  # noqa: E402
+from gui_steps_volume import step_volume  # noqa: E402
 
 
 def run_all():
@@ -88,6 +90,7 @@ def run_all():
             if reopened:
                 guarded("reopened quality/export", step_reopened_quality_and_export, *reopened)
                 FreeCAD.closeDocument(reopened[0].Name)
+        guarded("volume", step_volume)
     if os.environ.get("PARAMESH_GUI_SKIP_BIG") != "1":
         guarded("latency", step_latency)
     wait_ms(200)
@@ -103,7 +106,7 @@ def finish():
              f"checks: {passed} passed, {len(failed)} failed, {total:.0f} s"]
     for k in ("m6_triangles", "bl_triangles", "bl_quads", "cancel_seconds", "big_triangles", "big_compute_seconds",
               "latency_max_gap_ms", "latency_gaps_over_100ms", "big_threads", "cpus", "latency_ticks",
-              "big_femmesh_build_seconds", "big_store_seconds", "progress_bar_paints"):
+              "big_femmesh_build_seconds", "big_store_seconds", "progress_bar_paints", "crank_tetrahedra"):
         if k in METRICS:
             lines.append(f"  {k}: {METRICS[k]}")
     for n, d in failed:

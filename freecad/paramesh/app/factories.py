@@ -23,7 +23,7 @@ def make_surface_mesh(doc, part_object=None, name="ParaMeshSurface", **params):
     mapping = {"size": "Size", "min_size": "MinSize", "max_size": "MaxSize", "curvature_angle": "CurvatureAngle",
                "max_deviation": "MaxDeviation", "grading": "Grading", "threads": "Threads",
                "optimize_passes": "OptimizePasses", "quads": "Quads", "volume": "Volume3D",
-               "volume_max_size": "VolumeMaxSize"}
+               "volume_max_size": "VolumeMaxSize", "volume_optimize": "VolumeOptimize"}
     bl = params.pop("boundary_layers", None)
     ls = params.pop("local_sizes", None)
     for k, v in params.items():

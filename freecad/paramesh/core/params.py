@@ -38,6 +38,8 @@ FIELDS = {
                "surface triangles; needs a triangle surface mesh (no quads, triangle boundary layers)."),
     "volume_max_size": ("length", "Largest tetrahedron edge inside the solids. 0: max_size (the interior grows "
                         "from the surface sizes at the grading up to it)."),
+    "volume_optimize": ("count", "nglib's optimisation passes on the tetrahedra (swaps, smoothing); each costs "
+                        "about as much as the fill itself."),
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
@@ -186,6 +188,7 @@ class MeshParams:
     nearest_face_budget: float = 0.10
     volume: bool = False
     volume_max_size: float = 0.0
+    volume_optimize: int = 1
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
 
@@ -218,6 +221,7 @@ class MeshParams:
         self.nearest_face_budget = _number("nearest_face_budget", self.nearest_face_budget, lo=0, hi=10)
         _boolean("volume", self.volume)
         self.volume_max_size = _number("volume_max_size", self.volume_max_size, lo=0)
+        self.volume_optimize = _number("volume_optimize", self.volume_optimize, lo=0, hi=10, integer=True)
         if isinstance(self.local_sizes, (dict, str, LocalSize)):
             self.local_sizes = [self.local_sizes]
         if isinstance(self.boundary_layers, (dict, BoundaryLayer)):
@@ -235,7 +239,8 @@ class MeshParams:
         n = _native.MeshParams()
         for name in ("size", "min_size", "max_size", "curvature_angle", "max_deviation", "grading",
                      "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check",
-                     "nearest_face_budget", "max_elements", "volume", "volume_max_size"):
+                     "nearest_face_budget", "max_elements", "volume", "volume_max_size",
+                     "volume_optimize"):
             setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:

@@ -1,11 +1,14 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """Task panel of a ParaMesh surface mesh: the meshing parameters (with units and the property
 tooltips), the boundary layers and local sizes it uses, and the run box."""
+import html
+
 import FreeCADGui
 from PySide import QtGui
 
+from ..core.report_text import volume_lines
 from .task_base import MeshTaskPanel, remove_objects
-from .widgets import Field, ParamForm
+from .widgets import Field, ParamForm, report_of
 
 
 def surface_mesh_fields():
@@ -18,6 +21,9 @@ def surface_mesh_fields():
         Field("Grading", "Grading", "float", minimum=1.01, maximum=10.0, step=0.05, decimals=2),
         Field("ElementOrder", "Element order", "enum", items=["1st", "2nd"]),
         Field("Quads", "Quad-dominant", "bool"),
+        Field("Volume3D", "3D (fill solids with tetrahedra)", "bool"),
+        Field("VolumeMaxSize", "Max tetrahedron size (0: max size)", "length", step=1.0),
+        Field("VolumeOptimize", "Tetrahedron optimisation passes", "int", maximum=10),
         Field("Proximity", "Elements across thin parts", "int", maximum=100, special="off"),
         Field("Threads", "Threads", "int", maximum=1024, special="all cores"),
         Field("OptimizePasses", "Optimisation passes", "int", maximum=100),
@@ -48,7 +54,29 @@ class TaskSurfaceMesh(MeshTaskPanel):
         self.children.setWordWrap(True)
         self.params.layout_.addRow("Children", self.children)
         self.update_children()
+        self.volume = QtGui.QLabel()
+        self.volume.setWordWrap(True)
+        self.volume.setObjectName("VolumeCounts")
+        self.volume.setToolTip("Tetrahedra of the last run, per solid (FreeCAD's Solid<i>; "
+                               "the FEM mesh's volume groups have the same names)")
+        self.params.layout_.addRow("Tetrahedra", self.volume)
+        self.update_volume()
+        three_d = self.params.widget("Volume3D")
+        for prop in ("VolumeMaxSize", "VolumeOptimize"):
+            three_d.toggled.connect(self.params.widget(prop).setEnabled)
+            self.params.widget(prop).setEnabled(three_d.isChecked())
         return [self.params]
+
+    def update_volume(self):
+        """Shows the tetrahedra per solid of the object's last report."""
+        lines = volume_lines(report_of(self.mesh))
+        self.volume.setText("<br>".join(
+            f'<span style="color:{"#c00000" if level == "error" else "#202020"}">{html.escape(text)}</span>'
+            for level, text in lines) if lines else "none (surface mesh only: tick 3D to fill the solids)")
+
+    def _run_finished(self, state):
+        self.update_volume()
+        super()._run_finished(state)
 
     def update_children(self):
         m = self.mesh

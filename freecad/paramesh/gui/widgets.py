@@ -10,6 +10,7 @@ import FreeCADGui
 from PySide import QtCore, QtGui
 
 from .runner import QtMeshRunner, RunError
+from ..core.report_text import volume_lines
 
 # -- parameter form ----------------------------------------------------------------------------------
 
@@ -306,14 +307,15 @@ class ReferenceList(QtGui.QWidget):
 
 
 def report_lines(report):
-    """(level, text) lines summarising a run report: counts, timings, quality, and every face that
-    did not mesh cleanly with its reason."""
+    """(level, text) lines summarising a run report: counts, the tetrahedra per solid, quality,
+    and every face (or solid) that did not mesh cleanly with its reason."""
     out = []
     c = report.get("counts", {})
     status = report.get("status", "?")
     if c:
         out.append(("info", f"{c.get('nodes', 0)} nodes, {c.get('triangles', 0)} triangles, "
                             f"{c.get('quads', 0)} quads"))
+    out += volume_lines(report)
     q = report.get("quality") or {}
     if q:
         out.append(("info", f"min angle {q.get('angle_min', 0):.1f}°, max angle {q.get('angle_max', 0):.1f}°, "

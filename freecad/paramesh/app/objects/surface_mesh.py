@@ -11,6 +11,7 @@ import FreeCAD
 
 from .base import BaseProxy, add_property
 from ...core.params import FIELDS
+from ...core.report_text import volume_lines
 
 GROUP = "ParaMesh"
 
@@ -44,6 +45,7 @@ class SurfaceMesh(BaseProxy):
         add_property(obj, "App::PropertyInteger", "MaxElements", GROUP, _tip("max_elements"), 50000000)
         add_property(obj, "App::PropertyBool", "Volume3D", GROUP, "3D: " + _tip("volume"), False)
         add_property(obj, "App::PropertyLength", "VolumeMaxSize", GROUP, _tip("volume_max_size"), 0.0)
+        add_property(obj, "App::PropertyInteger", "VolumeOptimize", GROUP, _tip("volume_optimize"), 1)
         add_property(obj, "App::PropertyLinkList", "BoundaryLayerList", GROUP,
                      "ParaMesh boundary-layer objects applied to this mesh")
         add_property(obj, "App::PropertyLinkList", "LocalSizeList", GROUP,
@@ -70,7 +72,8 @@ class SurfaceMesh(BaseProxy):
                        nearest_face_budget=float(getattr(obj, "NearestFaceBudget", 0.10)),
                        max_elements=int(getattr(obj, "MaxElements", 50000000)),
                        volume=bool(getattr(obj, "Volume3D", False)),
-                       volume_max_size=float(getattr(obj, "VolumeMaxSize", 0.0)))
+                       volume_max_size=float(getattr(obj, "VolumeMaxSize", 0.0)),
+                       volume_optimize=int(getattr(obj, "VolumeOptimize", 1)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
@@ -121,6 +124,8 @@ class SurfaceMesh(BaseProxy):
         obj.Report = json.dumps(result.report)
         if result.report["status"] != "ok":
             FreeCAD.Console.PrintWarning(f"{obj.Label}: {result.report['message']}\n")
+        for level, text in volume_lines(result.report):  # the tetrahedra per solid, in the report view
+            (FreeCAD.Console.PrintError if level == "error" else FreeCAD.Console.PrintMessage)(f"{obj.Label}: {text}\n")
         if obj.CreateMeshFeature:
             doc = obj.Document
             mf = obj.MeshFeature
