@@ -130,6 +130,15 @@ def test_femmesh_groups_and_constraint_lookups(cantilever):
     v = tip.Vertexes[0]
     (nid,) = fm.getNodesByVertex(v)
     assert np.allclose(r.nodes[nid - 1], tuple(v.Point))
+    # the quality view colours the tetrahedron behind each surface triangle (FreeCAD draws the
+    # volumes' faces only); the same from the result and from the FemMesh alone (reopened file)
+    from freecad.paramesh.app.objects.surface_mesh import femmesh_arrays
+    arrays = cantilever["mesh"].Proxy.mesh_arrays(cantilever["mesh"])
+    ids = arrays.display_ids
+    assert len(ids) == m and ids.min() > m
+    behind = r.tetrahedra[ids - m - 1, :4]
+    assert all(set(t) <= set(k) for t, k in zip(r.triangles.tolist(), behind.tolist()))
+    assert np.array_equal(femmesh_arrays(fm).display_ids, ids)
 
 
 def test_surface_mesh_object_3d_property_saves_and_reopens(tmp_path):

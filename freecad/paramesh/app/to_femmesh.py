@@ -98,6 +98,22 @@ def smds_tetrahedra(tets):
     return tets[:, SMDS_TETRA10 if tets.shape[1] == 10 else SMDS_TETRA4]
 
 
+def owner_tetrahedra(triangles, tets):
+    """(M,) index of the tetrahedron (row of tets, corners in any order) one of whose faces is each
+    triangle, -1 where none is. FreeCAD draws a FemMesh with volumes by their faces only, so
+    colouring a surface triangle means colouring this tetrahedron."""
+    tris = np.sort(np.asarray(triangles, dtype=np.int64).reshape(-1, 3), axis=1)
+    tets = np.asarray(tets, dtype=np.int64).reshape(-1, 4)
+    if not len(tris) or not len(tets):
+        return np.full(len(tris), -1, dtype=np.int64)
+    faces = np.sort(tets[:, [[0, 1, 2], [0, 1, 3], [1, 2, 3], [0, 2, 3]]].reshape(-1, 3), axis=1)
+    _, inverse = np.unique(np.concatenate([faces, tris]), axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    owner = np.full(inverse.max() + 1, -1, dtype=np.int64)
+    owner[inverse[:len(faces)]] = np.repeat(np.arange(len(tets)), 4)
+    return owner[inverse[len(faces):]]
+
+
 def _add_groups(fm, keys, first_id, prefix, kind):
     """One group '<prefix><key>' of element type kind per distinct key > 0; element i has id
     first_id + i. One call per group: FemMesh.addGroupElements walks every element of the mesh on

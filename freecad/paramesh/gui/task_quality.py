@@ -213,9 +213,14 @@ class TaskQuality:
         if vo is None:
             return 0
         q = self.quality
-        rgb = colormap(q.normalized(self.metric))
-        ids = q.element_ids.tolist()
-        vo.ElementColor = {e: tuple(c) for e, c in zip(ids, rgb.tolist())}
+        value = q.normalized(self.metric)
+        rgb = colormap(value)
+        ids = getattr(self.arrays, "display_ids", q.element_ids)
+        # on a mesh with tetrahedra a tetrahedron shows the colour of its worst surface triangle
+        order = np.argsort(-value, kind="stable")  # best first: the worst is written last
+        colours = {int(e): tuple(c) for e, c in zip(ids[order].tolist(), rgb[order].tolist())}
+        vo.ElementColor = colours
+        self.colored_ids = set(colours)
         vo.Visibility = True
         if not hasattr(self, "_display_mode"):
             self._display_mode = vo.DisplayMode

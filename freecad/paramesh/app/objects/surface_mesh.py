@@ -152,7 +152,8 @@ class SurfaceMesh(BaseProxy):
         if r is not None:
             m, k = len(r.triangles), len(r.quads)
             return MeshArrays(r.nodes, r.triangles, r.quads, r.triangle_face, r.quad_face,
-                              np.arange(1, m + k + 1, dtype=np.int64), np.arange(1, len(r.nodes) + 1))
+                              np.arange(1, m + k + 1, dtype=np.int64), np.arange(1, len(r.nodes) + 1),
+                              tets=r.tetrahedra[:, :4], tet_ids=np.arange(m + k + 1, m + k + 1 + len(r.tetrahedra)))
         return femmesh_arrays(obj.FemMesh)
 
     def export(self, obj, path):
@@ -193,9 +194,13 @@ class SurfaceMesh(BaseProxy):
 
 class MeshArrays:
     """Plain mesh arrays (the attributes result_to_mesh and the quality view read); element_ids and
-    node_ids are the FemMesh ids of the elements (triangles then quads) and of the nodes."""
+    node_ids are the FemMesh ids of the elements (triangles then quads) and of the nodes;
+    display_ids the FemMesh ids to colour for each element: the element itself, or on a mesh with
+    tetrahedra (tets: (K, 4) rows of node indices, tet_ids their FemMesh ids) the tetrahedron the
+    triangle is a face of, as FreeCAD then draws the volumes' faces only."""
 
-    def __init__(self, nodes, triangles, quads, triangle_face, quad_face, element_ids, node_ids=None):
+    def __init__(self, nodes, triangles, quads, triangle_face, quad_face, element_ids, node_ids=None,
+                 tets=None, tet_ids=None):
         self.nodes = np.asarray(nodes, dtype=np.float64).reshape(-1, 3)
         self.triangles = np.asarray(triangles, dtype=np.int32).reshape(-1, 3)
         self.quads = np.asarray(quads, dtype=np.int32).reshape(-1, 4)
@@ -204,6 +209,12 @@ class MeshArrays:
         self.element_ids = np.asarray(element_ids, dtype=np.int64)
         self.node_ids = (np.arange(1, len(self.nodes) + 1) if node_ids is None
                          else np.asarray(node_ids, dtype=np.int64))  #: FemMesh node id per row of nodes
+        self.display_ids = self.element_ids
+        if tets is not None and len(tets) and not len(self.quads):
+            from ..to_femmesh import owner_tetrahedra
+            owner = owner_tetrahedra(self.triangles, tets)
+            ids = np.asarray(tet_ids, dtype=np.int64)
+            self.display_ids = np.where(owner >= 0, ids[np.maximum(owner, 0)], self.element_ids)
 
 
 def femmesh_arrays(fm):
@@ -220,6 +231,8 @@ def femmesh_arrays(fm):
             for e in fm.getGroupElements(g):
                 face_of[e] = int(name[4:])
     tris, quads, tf, qf, tid, qid = [], [], [], [], [], []
+    tet_ids = list(fm.Volumes) if fm.VolumeCount else []
+    tets = [[index[i] for i in fm.getElementNodes(v)[:4]] for v in tet_ids]
     for e in fm.Faces:
         n = fm.getElementNodes(e)
         if len(n) in (3, 6):
@@ -230,4 +243,4 @@ def femmesh_arrays(fm):
             quads.append([index[i] for i in n[:4]])
             qf.append(face_of.get(e, 0))
             qid.append(e)
-    return MeshArrays(nodes, tris, quads, tf, qf, tid + qid, node_ids)
+    return MeshArrays(nodes, tris, quads, tf, qf, tid + qid, node_ids, tets=tets, tet_ids=tet_ids)
