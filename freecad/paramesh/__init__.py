@@ -8,13 +8,16 @@ FreeCAD-free API (numpy only)::
     r.nodes          # (N, 3) float64
     r.triangles      # (M, 3) int32, 0-based node indices
     r.report         # dict: status, per-face status, timings, quality
+    v = pm.mesh_shape("part.step", size=2.0, volume=True, order=2)
+    v.tetrahedra     # (K, 10) int32 (K, 4 at order 1), CalculiX C3D10 / C3D4 node order
+    v.tetra_solid    # (K,) int32, 1-based solid (FreeCAD's Solid<i>)
 
 With FreeCAD (no GUI needed)::
 
     r = pm.mesh_shape(doc.getObject("Body").Shape, size=5)
     mesh = r.to_mesh()        # Mesh.Mesh, for a Mesh::Feature
-    fem = r.to_femmesh()      # Fem.FemMesh, one group per CAD face "Face<i>"
-    obj = pm.make_fem_mesh(doc, part_object, analysis, size=5)
+    fem = r.to_femmesh()      # Fem.FemMesh, one group per CAD face "Face<i>" (and solid "Solid<i>")
+    obj = pm.make_fem_mesh(doc, part_object, analysis, size=5)   # volume=True: tetrahedra too
 
 The package imports without FreeCAD; FreeCAD modules are imported only by the functions that need
 them.
@@ -38,6 +41,7 @@ from .core.api import (mesh_shape, mesh_file, mesh_brep, MeshResult, ParaMeshErr
 
 def make_fem_mesh(doc, part_object, analysis=None, **params):
     """Creates a ParaMesh FEM mesh object (Fem::FemMeshObjectPython with a Part link) meshing
-    part_object, optionally added to an analysis. Needs FreeCAD (no GUI)."""
+    part_object, optionally added to an analysis; volume=True fills its solids with tetrahedra
+    (the FemMesh then holds Tetra4/Tetra10 for FreeCAD's CalculiX writer). Needs FreeCAD (no GUI)."""
     from .app.factories import make_fem_mesh as _make
     return _make(doc, part_object, analysis=analysis, **params)

@@ -155,6 +155,14 @@ def test_surface_mesh_object_3d_property_saves_and_reopens(tmp_path):
     n = obj.FemMesh.VolumeCount
     assert obj.Status == "ok" and n == report["volume"]["tetrahedra"] > 100 and obj.FemMesh.TetraCount == n
     assert report["volume"]["solids"][0]["volume"] == pytest.approx(6000.0, rel=1e-9)
+    # exports: the core's .inp (C3D4, positive) and FreeCAD's .unv keep the tetrahedra
+    from freecad.paramesh.app.factories import export_mesh
+    import Fem
+    nodes, elements = fh.read_inp(export_mesh(obj, str(tmp_path / "box.inp")))
+    assert len(elements["C3D4"]) == n and fh.corner_volumes(nodes, elements["C3D4"]).min() > 0
+    back = Fem.FemMesh()
+    back.read(export_mesh(obj, str(tmp_path / "box.unv")))
+    assert back.VolumeCount == n and back.NodeCount == obj.FemMesh.NodeCount
     path, name = str(tmp_path / "vol3d.FCStd"), obj.Name
     doc.saveAs(path)
     FreeCAD.closeDocument(doc.Name)
