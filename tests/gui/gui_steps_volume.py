@@ -35,12 +35,12 @@ def step_volume():
     show_tasks_tab()
     mesh = panel.mesh
     three_d, vmax = panel.params.widget("Volume3D"), panel.params.widget("VolumeMaxSize")
-    check("3D is off by default, its max tetrahedron size greyed out",
-          mesh.Volume3D is False and not three_d.isChecked() and not vmax.isEnabled())
-    check("the panel says the mesh has no tetrahedra yet", "none" in panel.volume.text(), panel.volume.text())
+    check("3D is off by default, its options and the tetrahedra row hidden",
+          mesh.Volume3D is False and not three_d.isChecked() and vmax.isHidden()
+          and panel.volume.isHidden())
     check("3D and max tetrahedron size have tooltips", bool(three_d.toolTip()) and bool(vmax.toolTip()))
     panel.params.set_value("Volume3D", True)
-    check("ticking 3D enables the max tetrahedron size", vmax.isEnabled())
+    check("ticking 3D shows its options", not vmax.isHidden() and not panel.params.widget("VolumeOptimize").isHidden())
     panel.params.set_value("Size", 4.0)
     # 3D needs triangles: quads are refused, as a normal error in the panel
     panel.params.set_value("Quads", True)
@@ -65,10 +65,11 @@ def step_volume():
               for s in solids if f"Solid{s['solid']}" in groups) and {"Solid1", "Solid2"} <= set(groups),
           sorted(g for g in groups if g.startswith("Solid")))
     text = panel.volume.text()
-    check("the panel lists the tetrahedra per solid",
+    check("the panel lists the tetrahedra per solid", not panel.volume.isHidden() and
           all(f"Solid{s['solid']}: {s['tetrahedra']} tetrahedra" in text for s in solids), text[:300])
     check("the run summary gives the tetrahedra in all",
-          f"{vol.get('tetrahedra')} tetrahedra in 2 of 2 solid" in panel.run.summary.text(), panel.run.summary.text()[:300])
+          f"{vol.get('tetrahedra')} tetrahedra in 2 of 2 solid" in panel.run.summary.text(),
+          panel.run.summary.text()[:300])
     wanted = [f"Solid{s['solid']}: {s['tetrahedra']} tetrahedra" for s in solids]
     # the Report view receives console messages as queued events: give it the event loop
     shown = wait_until(lambda: all(w in _report_view_text()[before:] for w in wanted), 5)

@@ -61,18 +61,31 @@ class TaskSurfaceMesh(MeshTaskPanel):
                                "the FEM mesh's volume groups have the same names)")
         self.params.layout_.addRow("Tetrahedra", self.volume)
         self.update_volume()
+        # the 3D options show only when 3D is ticked: the panel stays short enough for the run box
+        # (progress, time, log) to be seen without scrolling
         three_d = self.params.widget("Volume3D")
-        for prop in ("VolumeMaxSize", "VolumeOptimize"):
-            three_d.toggled.connect(self.params.widget(prop).setEnabled)
-            self.params.widget(prop).setEnabled(three_d.isChecked())
+        three_d.toggled.connect(self._show_3d_options)
+        self._show_3d_options(three_d.isChecked())
         return [self.params]
 
+    def _show_3d_options(self, on):
+        for prop in ("VolumeMaxSize", "VolumeOptimize"):
+            self._show_row(self.params.widget(prop), on)
+
+    def _show_row(self, widget, on):
+        label = self.params.layout_.labelForField(widget)
+        widget.setVisible(on)
+        if label is not None:
+            label.setVisible(on)
+
     def update_volume(self):
-        """Shows the tetrahedra per solid of the object's last report."""
+        """Shows the tetrahedra per solid of the object's last report (the row is hidden when the
+        last run made none)."""
         lines = volume_lines(report_of(self.mesh))
         self.volume.setText("<br>".join(
             f'<span style="color:{"#c00000" if level == "error" else "#202020"}">{html.escape(text)}</span>'
-            for level, text in lines) if lines else "none (surface mesh only: tick 3D to fill the solids)")
+            for level, text in lines))
+        self._show_row(self.volume, bool(lines))
 
     def _run_finished(self, state):
         self.update_volume()
