@@ -96,6 +96,23 @@ def test_cantilever_deck_has_positive_c3d10_only(cantilever):
         assert np.abs(p[:, 4 + k] - 0.5 * (p[:, i] + p[:, j])).max() < 1e-9
 
 
+def test_freecad_writes_positive_c3d4_for_two_solids(tmp_path):
+    r = pm.mesh_shape(os.path.join(DATA, "CrankArm.brep"), volume=True)
+    fm = r.to_femmesh()
+    assert fm.TetraCount == len(r.tetrahedra) and fm.TriangleCount == len(r.triangles)
+    groups = {fm.getGroupName(g): g for g in fm.Groups}
+    for s in r.solids:
+        assert len(fm.getGroupElements(groups[f"Solid{s['solid']}"])) == s["tetrahedra"] > 0
+    path = str(tmp_path / "crank.inp")
+    fm.writeABAQUS(path, 1, False)  # what FreeCAD's CalculiX writer calls: highest dimension only
+    nodes, elements = fh.read_inp(path)
+    assert set(elements) == {"C3D4"} and len(elements["C3D4"]) == len(r.tetrahedra)
+    vol = fh.corner_volumes(nodes, elements["C3D4"])
+    p = r.nodes[r.tetrahedra]
+    ours = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6
+    assert vol.min() > 0 and np.allclose(np.sort(vol), np.sort(ours), rtol=1e-9, atol=0)
+
+
 def test_femmesh_groups_and_constraint_lookups(cantilever):
     fm, r, box = cantilever["femmesh"], cantilever["result"], cantilever["shape"]
     groups = {fm.getGroupName(g): g for g in fm.Groups}
