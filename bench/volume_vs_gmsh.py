@@ -652,10 +652,12 @@ def render(rows, skipped):
 def write_out(path, table, meta):
     block = '<!-- table:begin -->\n' + meta + '\n' + table + '<!-- table:end -->\n'
     if os.path.exists(path):
-        text = open(path).read()
-        a, b = text.find('<!-- table:begin -->'), text.find('<!-- table:end -->')
-        if a >= 0 and b > a:
-            text = text[:a] + block + text[b + len('<!-- table:end -->\n'):]
+        lines = open(path).read().split('\n')
+        # the markers count only as lines of their own (the page may name them in its text)
+        a = next((i for i, l in enumerate(lines) if l.strip() == '<!-- table:begin -->'), None)
+        b = next((i for i, l in enumerate(lines) if l.strip() == '<!-- table:end -->' and a is not None and i > a), None)
+        if a is not None and b is not None:
+            text = '\n'.join(lines[:a]) + ('\n' if a else '') + block + '\n'.join(lines[b + 1:])
             open(path, 'w').write(text)
             return
     open(path, 'w').write('# Volume meshes: ParaMesh --volume vs Gmsh 4.8.4\n\nWritten by bench/volume_vs_gmsh.py '
