@@ -11,7 +11,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import ROOT
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 CLI = os.path.join(ROOT, "build", "bin", "paramesh")
 PY = "/usr/bin/python3"

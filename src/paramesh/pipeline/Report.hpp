@@ -94,6 +94,9 @@ struct Report {
   std::string source;                       ///< input description
   int cadFaces = 0, cadEdges = 0, cadVertices = 0, cadSolids = 0;
   double size = 0, minSize = 0, maxSize = 0, curvatureAngle = 0, maxDeviation = 0, grading = 0;
+  bool volume = false;           ///< the run filled the solids (volume, volume_max_size, volume_optimize)
+  double volumeMaxSize = 0;
+  int volumeOptimize = 0;
   int threads = 1;
   int nodes = 0, triangles = 0, quads = 0;
   int order = 1;

@@ -27,6 +27,11 @@ Json reportToJson(const Report& r) {
   par["max_deviation"] = r.maxDeviation;
   par["grading"] = r.grading;
   par["threads"] = r.threads;
+  if (r.volume) {
+    par["volume"] = true;
+    par["volume_max_size"] = r.volumeMaxSize;
+    par["volume_optimize"] = r.volumeOptimize;
+  }
   Json& cnt = j["counts"];
   cnt["nodes"] = r.nodes;
   cnt["triangles"] = r.triangles;

@@ -62,6 +62,9 @@ void MeshContext::resolveParams() {
   report.curvatureAngle = p.curvatureAngle;
   report.maxDeviation = p.maxDeviation;
   report.grading = p.grading;
+  report.volume = p.volume;
+  report.volumeMaxSize = p.volumeMaxSize > 0 ? p.volumeMaxSize : p.maxSize;
+  report.volumeOptimize = p.volumeOptimize;
   report.threads = threads;
   report.source = model.source();
   for (const std::string& w : model.readWarnings()) {
