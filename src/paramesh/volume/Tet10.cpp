@@ -77,16 +77,22 @@ Tet10Stats makeTet10(SurfaceMesh& m) {
       m.tetMid[k][e] = it->second;
     }
   }
-  // straightening a tet moves mid-nodes its neighbours share: check again until none is left
+  // straightening a tet moves mid-nodes its neighbours share: check again until none is left.
+  // The last pass changes nothing, so its values are the final ones (straightened tets: 1).
   std::vector<char> straight(m.tets.size(), 0);
   for (bool changed = true; changed;) {
     changed = false;
+    double passMin = 1;
     for (std::size_t k = 0; k < m.tets.size(); ++k) {
       if (straight[k]) continue;
       Vec3 x[10];
       for (int i = 0; i < 4; ++i) x[i] = m.nodes[m.tets[k][i]];
       for (int e = 0; e < 6; ++e) x[4 + e] = m.nodes[m.tetMid[k][e]];
-      if (tet10MinScaledJacobian(x) > 0) continue;
+      const double q = tet10MinScaledJacobian(x);
+      if (q > 0) {
+        passMin = std::min(passMin, q);
+        continue;
+      }
       // back on the chords: its curved surface edges become straight (valid, off the CAD there)
       for (int e = 0; e < 6; ++e) {
         const int a = m.tets[k][kEdge[e][0]], b = m.tets[k][kEdge[e][1]];
@@ -96,13 +102,7 @@ Tet10Stats makeTet10(SurfaceMesh& m) {
       ++st.straightened;
       changed = true;
     }
-  }
-  // a straightened mid-node also changes the tets around it: measure all at the end
-  for (std::size_t k = 0; k < m.tets.size(); ++k) {
-    Vec3 x[10];
-    for (int i = 0; i < 4; ++i) x[i] = m.nodes[m.tets[k][i]];
-    for (int e = 0; e < 6; ++e) x[4 + e] = m.nodes[m.tetMid[k][e]];
-    st.minScaledJacobian = std::min(st.minScaledJacobian, tet10MinScaledJacobian(x));
+    st.minScaledJacobian = passMin;
   }
   return st;
 }
