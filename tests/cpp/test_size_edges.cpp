@@ -33,16 +33,13 @@
 #include "paramesh/size/SizeField.hpp"
 #include "paramesh/size/Sources.hpp"
 #include "paramesh/util/Error.hpp"
+#include "occ_fixtures.hpp"
 
 using namespace paramesh;
 
 namespace {
 
-std::unique_ptr<IGeometryModel> viaBrep(const TopoDS_Shape& s) {
-  std::ostringstream out;
-  BRepTools::Write(s, out);
-  return loadOccModelFromBrepString(out.str());
-}
+using test::viaBrep;
 
 int faceOfKind(const IGeometryModel& m, SurfaceKind k) {
   for (int f = 0; f < m.numFaces(); ++f)

@@ -311,6 +311,11 @@ struct MeshContext {
   // ================================================================ stages/report (Finish.cpp)
   void finish();
 
+  // ================================================================ stages/audit (Audit.cpp)
+  /// The finished mesh audited (audit/MeshAudit.hpp): report.audit; a finding makes an ok run
+  /// degraded, naming the faces and edges. Reads mesh, triUv, quadUv, faceStage.copyOf.
+  void audit();
+
   /// The smallest radius of curvature that triangles of the min-size can follow at the curvature
   /// angle (0: no curvature angle).
   double minSizeReach() const { return p.curvatureAngle > 0 ? p.minSize / (p.curvatureAngle * tuning::kPi / 180.0) : 0.0; }

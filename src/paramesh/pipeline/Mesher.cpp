@@ -58,6 +58,7 @@ MeshOutput Mesher::runUnbudgeted() {
   if (c.p.volume) c.fillSolids();  // volume: tetrahedra inside each closed solid (nglib)
   if (c.p.order == 2) c.secondOrder();
   c.finish();                  // report: quality, deviation, warnings
+  c.audit();                   // audit: closure, conformity, duplicates, folds, nodes on the CAD
   c.stage("total", total.seconds());
   c.progress.report(1.0, "done");
   MeshOutput out;

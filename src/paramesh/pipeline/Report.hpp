@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "paramesh/audit/AuditResult.hpp"
+
 namespace paramesh {
 
 /// Overall outcome: every face meshed / some faces failed (the rest is meshed) / nothing usable.
@@ -133,6 +135,7 @@ struct Report {
   std::vector<ProposedEdge> proposedLeadingEdges;  ///< filled when a layer asked for auto edges
   std::vector<std::pair<std::string, double>> stageSeconds;  ///< per stage, summed over nearest-face rounds
   QualitySummary quality;
+  AuditResult audit;                        ///< the final audit (stages/audit): never "ok" unless it passed
   std::vector<std::string> warnings;
   std::vector<std::string> extraJson;       ///< "key": value fragments added by optional stages
 };

@@ -9,6 +9,46 @@
 
 namespace paramesh {
 
+namespace {
+
+Json names(const char* kind, const std::vector<int>& ids) {
+  Json a = Json::array();
+  for (int i : ids) a.push(kind + std::to_string(i));
+  return a;
+}
+
+}  // namespace
+
+Json auditToJson(const AuditResult& a) {
+  Json j = Json::object();
+  j["passed"] = a.passed();
+  Json& c = j["counts"];
+  const std::pair<const char*, int> counts[] = {
+      {"open_face_edges", a.openFaceEdges},          {"face_overused_edges", a.faceOverusedEdges},
+      {"face_misoriented_edges", a.faceMisorientedEdges}, {"non_manifold_edges", a.nonManifoldEdges},
+      {"solid_open_edges", a.solidOpenEdges},        {"solid_overused_edges", a.solidOverusedEdges},
+      {"solid_misoriented_edges", a.solidMisorientedEdges}, {"duplicate_elements", a.duplicateElements},
+      {"folds", a.folds},                            {"inverted_elements", a.invertedElements},
+      {"inverted_tets", a.invertedTets},             {"duplicate_tets", a.duplicateTets},
+      {"coincident_nodes", a.coincidentNodes},       {"nodes_off_cad", a.nodesOffCad}};
+  for (const auto& [k, v] : counts) c[k] = v;
+  j["solids_checked"] = a.solidsChecked;
+  j["solids_skipped"] = a.solidsSkipped;
+  j["nodes_checked"] = a.nodesChecked;
+  j["worst_node_offset"] = a.worstNodeOffset;
+  j["faces"] = names("Face", a.faces);
+  j["edges"] = names("Edge", a.edges);
+  j["solids"] = names("Solid", a.solids);
+  Json& pr = j["problems"];
+  pr = Json::array();
+  for (const auto& s : a.problems) pr.push(s);
+  Json& no = j["notes"];
+  no = Json::array();
+  for (const auto& s : a.notes) no.push(s);
+  j["seconds"] = a.seconds;
+  return j;
+}
+
 Json reportToJson(const Report& r) {
   Json j = Json::object();
   j["status"] = toString(r.status);
@@ -178,6 +218,7 @@ Json reportToJson(const Report& r) {
       pe.push(std::move(x));
     }
   }
+  if (r.audit.run) j["audit"] = auditToJson(r.audit);
   Json& w = j["warnings"];
   w = Json::array();
   for (const auto& s : r.warnings) w.push(s);

@@ -10,6 +10,8 @@
 namespace paramesh {
 
 Json reportToJson(const Report& r);
+/// The "audit" section of the report.
+Json auditToJson(const AuditResult& a);
 /// Writes reportToJson(r) to path (indented). Throws Error when the file cannot be written.
 void writeReportJson(const std::string& path, const Report& r);
 

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file MeshAudit.hpp
+/// The final audit of a finished mesh, independent of how it was made: conformity and closure
+/// (every closed solid's elements form a closed, consistently oriented 2-manifold), no duplicate
+/// elements, no coincident nodes, no element folded onto its neighbour or facing against its
+/// surface, every node on its CAD entity, every tetrahedron positive. A mesh whose audit finds
+/// anything is never reported "ok".
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include "paramesh/audit/AuditResult.hpp"
+#include "paramesh/geom/Geometry.hpp"
+#include "paramesh/mesh/SurfaceMesh.hpp"
+
+namespace paramesh {
+
+struct AuditInput {
+  const IGeometryModel& model;
+  const SurfaceMesh& mesh;
+  /// per triangle / quad: (u,v) of its corners on its face (seam-safe); may be empty (then the
+  /// orientation against the surface is not checked)
+  const std::vector<std::array<Vec2, 3>>& triUv;
+  const std::vector<std::array<Vec2, 4>>& quadUv;
+  /// per 0-based face: 1 when its elements are a coincident face's copy (orientation not checked)
+  std::vector<char> copyFace;
+};
+
+/// Audits in.mesh against in.model (reads only). The fold threshold: two elements of one face
+/// meeting at an interior edge with normals more than foldAngleDeg apart.
+AuditResult auditMesh(const AuditInput& in, double foldAngleDeg = 160.0);
+
+// The audit's parts (audit/*.cpp); each adds its counts, entities and problems to r.
+void auditEdgeUse(const AuditInput& in, AuditResult& r);
+void auditElements(const AuditInput& in, double foldAngleDeg, AuditResult& r);
+void auditNodes(const AuditInput& in, AuditResult& r);
+
+/// Adds one finding: problem text with up to a few named entities.
+void addFinding(AuditResult& r, const std::string& what, int count, const std::vector<int>& faces,
+                const std::vector<int>& edges = {}, const std::vector<int>& solids = {});
+
+}  // namespace paramesh

@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/// @file Audit.cpp
+/// Audit stage: the finished mesh checked independently of how it was made (audit/MeshAudit.hpp).
+/// A finding turns an ok run into a degraded one (exit 3) whose message names the faces and edges;
+/// the counts go to report.audit either way.
+#include "paramesh/audit/MeshAudit.hpp"
+#include "paramesh/pipeline/MeshContext.hpp"
+
+namespace paramesh {
+
+void MeshContext::audit() {
+  progress.report(1.0, "audit");
+  AuditInput in{model, mesh, triUv, quadUv, {}};
+  in.copyFace.assign(model.numFaces(), 0);
+  for (size_t f = 0; f < faceStage.copyOf.size() && f < in.copyFace.size(); ++f) in.copyFace[f] = faceStage.copyOf[f] >= 0;
+  report.audit = auditMesh(in);
+  report.audit.run = true;
+  stage("audit", report.audit.seconds);
+  for (const std::string& n : report.audit.notes) log.info("audit: " + n);
+  if (report.audit.passed()) return;
+  std::string m;
+  for (const std::string& pr : report.audit.problems) {
+    log.warn("audit: " + pr);
+    m += (m.empty() ? "" : "; ") + pr;
+  }
+  if (report.status == RunStatus::Ok) report.status = RunStatus::Degraded;
+  report.message += "; the audit found " + m;
+}
+
+}  // namespace paramesh
