@@ -64,7 +64,7 @@ int interiorTriangle(const SurfaceMesh& m, int f) {
 }
 
 int total(const AuditResult& r) {
-  return r.openFaceEdges + r.faceOverusedEdges + r.faceMisorientedEdges + r.nonManifoldEdges + r.solidOpenEdges +
+  return r.emptyFaces + r.openFaceEdges + r.faceOverusedEdges + r.faceMisorientedEdges + r.nonManifoldEdges + r.solidOpenEdges +
          r.solidOverusedEdges + r.solidMisorientedEdges + r.duplicateElements + r.folds + r.invertedElements +
          r.invertedTets + r.duplicateTets + r.coincidentNodes + r.nodesOffCad;
 }
@@ -167,6 +167,25 @@ TEST(Audit, AnInvertedTetrahedronIsFound) {
   const AuditResult r = audit(*g, out.mesh);
   EXPECT_EQ(r.invertedTets, 1);
   EXPECT_EQ(r.solids, std::vector<int>{1});
+}
+
+TEST(Audit, AFaceWithoutElementsIsNamedAndItsSolidNotCheckedForClosure) {
+  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
+  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  std::vector<std::array<int, 3>> kept;
+  std::vector<int> keptFace;
+  for (size_t t = 0; t < m.triangles.size(); ++t)
+    if (m.triangleFace[t] != 4) kept.push_back(m.triangles[t]), keptFace.push_back(m.triangleFace[t]);
+  m.triangles = kept;
+  m.triangleFace = keptFace;
+  const AuditResult r = audit(*g, m);
+  EXPECT_EQ(r.emptyFaces, 1);
+  EXPECT_EQ(total(r), 1);
+  EXPECT_EQ(r.faces, std::vector<int>{4});
+  EXPECT_EQ(r.solidsSkipped, 1);
+  EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) {
+    return n.find("Solid1 has Face4 without elements") != std::string::npos;
+  }));
 }
 
 TEST(Audit, ProblemsNameEntitiesAndCountTheRest) {

@@ -11,7 +11,7 @@ random edges (first height size / 200 to size / 5, 1 to 12 rows). The run gets a
 case whose element estimate is huge is expected to stop at --max-elements, set to 3e6). Every
 outcome must be one of: exit 0 (or 3, some faces failed, each named in the report) with a mesh
 that passes fuzz_inputs.py's check (finite coordinates, no triangle with a repeated node, every
-triangle and quad edge used at most twice, no unused node), or an exit code 1-5 with a one-line
+triangle and quad edge used at most twice, no unused node) whose report's final audit passed, or an exit code 1-5 with a one-line
 reason. A signal, a sanitizer report, a time-out or a
 reason of several lines is a failure; its command line is kept in DIR/failures.txt.
 Prints JSON: counts per outcome, the refusals (exit 1-5: reason and command) and the failures.
@@ -36,6 +36,20 @@ def diag_and_edges(model):
             "print(s.BoundBox.DiagonalLength, len(s.Edges))")
     out = subprocess.check_output([sys.executable, "-c", code, model]).decode().split()
     return float(out[-2]), int(out[-1])
+
+
+def audit_failure(report):
+    """The final audit's problems when it did not pass (None when it passed)."""
+    try:
+        with open(report) as f:
+            audit = json.load(f).get("audit")
+    except (OSError, ValueError):
+        return "no readable report"
+    if audit is None:
+        return "the report has no audit"
+    # a failed face (exit 3, named in the report) is the audit's "faces without elements": not an escape
+    problems = [x for x in audit["problems"] if not re.match(r"\d+ faces without elements", x)]
+    return "audit: " + "; ".join(problems) if problems else None
 
 
 def draw(rng, model, diag, nedges):
@@ -81,7 +95,10 @@ def main():
         out = os.path.join(a.out, "case.msh")
         if os.path.exists(out):
             os.remove(out)
-        cmd = [a.paramesh, "mesh", model, "-o", out, "--quiet"] + args
+        rep = os.path.join(a.out, "case.json")
+        if os.path.exists(rep):
+            os.remove(rep)
+        cmd = [a.paramesh, "mesh", model, "-o", out, "--report", rep, "--quiet"] + args
         try:
             p = subprocess.run(cmd, capture_output=True, text=True, timeout=a.timeout,
                                env=dict(os.environ, ASAN_OPTIONS="detect_leaks=0"))
@@ -97,6 +114,7 @@ def main():
             why = "sanitizer report"
         elif rc in (0, 3):
             why = check_mesh(out) if os.path.exists(out) else "no mesh written"
+            why = why or audit_failure(rep)
         elif len(err.strip().splitlines()) != 1:
             why = "reason of %d lines" % len(err.strip().splitlines())
         key = "failed" if why else ("exit %s" % rc)

@@ -89,14 +89,39 @@ bool closedInCad(const IGeometryModel& g, int s, const std::vector<SolidFace>& f
   return true;
 }
 
+/// Per 0-based face: it has at least one element.
+std::vector<char> facesWithElements(const IGeometryModel& g, const SurfaceMesh& m) {
+  std::vector<char> has(g.numFaces(), 0);
+  for (int f : m.triangleFace) has[f - 1] = 1;
+  for (int f : m.quadFace) has[f - 1] = 1;
+  return has;
+}
+
+/// A face without elements (one that failed) is one finding; the solids it bounds are not
+/// checked for closure (their open edges would only repeat it).
+bool hasEmptyFace(const std::vector<SolidFace>& faces, const std::vector<char>& has, int s, std::string& note) {
+  for (const SolidFace& sf : faces)
+    if (!has[sf.face]) {
+      note = "Solid" + std::to_string(s + 1) + " has Face" + std::to_string(sf.face + 1) +
+             " without elements: its closure is not checked";
+      return true;
+    }
+  return false;
+}
+
 void auditSolids(const AuditInput& in, const std::vector<HalfEdge>& all,
                  const std::unordered_map<uint64_t, int>& cadEdgeOf, AuditResult& r) {
   const IGeometryModel& g = in.model;
+  const std::vector<char> has = facesWithElements(g, in.mesh);
+  Where empty;
+  for (int f = 0; f < g.numFaces(); ++f)
+    if (!has[f]) empty.at(f, -1);
+  tally(r, r.emptyFaces, "faces without elements", empty);
   Where open, over, misoriented;
   for (int s = 0; s < g.numSolids(); ++s) {
     const std::vector<SolidFace> faces = g.solidFaces(s);
     std::string note;
-    if (faces.empty() || !closedInCad(g, s, faces, note)) {
+    if (faces.empty() || hasEmptyFace(faces, has, s, note) || !closedInCad(g, s, faces, note)) {
       ++r.solidsSkipped;
       if (!note.empty()) r.notes.push_back(note);
       continue;
