@@ -26,6 +26,14 @@ Vec3 elementNormal(const SurfaceMesh& m, int e) {  // e < T: triangle, else quad
   return cross(m.nodes[q[2]] - m.nodes[q[0]], m.nodes[q[3]] - m.nodes[q[1]]);
 }
 
+/// (u,v) where the surface degenerates (a pole, an apex): one of S_u, S_v vanishes against the other.
+bool atSingularPoint(const ISurface& s, Vec2 uv) {
+  Vec3 p, du, dv;
+  s.d1(uv, p, du, dv);
+  const double a = norm(du), b = norm(dv);
+  return !(std::min(a, b) > 1e-9 * std::max(a, b));
+}
+
 int elementFace(const SurfaceMesh& m, int e) {
   const int T = (int)m.triangles.size();
   return e < T ? m.triangleFace[e] - 1 : m.quadFace[e - T] - 1;
@@ -130,11 +138,14 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
     const int f = elementFace(m, e);
     if (f < 0 || (!in.copyFace.empty() && in.copyFace[f])) continue;
     if (!surf[f]) surf[f] = g.makeSurface(f);
+    const Vec2* uv = e < T ? in.triUv[e].data() : in.quadUv[e - T].data();
+    const int corners = e < T ? 3 : 4;
     Vec2 c{0, 0};
-    if (e < T)
-      c = (1.0 / 3.0) * (in.triUv[e][0] + in.triUv[e][1] + in.triUv[e][2]);
-    else
-      c = 0.25 * (in.quadUv[e - T][0] + in.quadUv[e - T][1] + in.quadUv[e - T][2] + in.quadUv[e - T][3]);
+    int used = 0;
+    for (int i = 0; i < corners; ++i)  // a corner at a pole or apex has an arbitrary u (or v)
+      if (!atSingularPoint(*surf[f], uv[i])) c = c + uv[i], ++used;
+    if (!used) continue;
+    c = (1.0 / used) * c;
     Vec3 n;
     if (!surf[f]->normal(c, n)) continue;
     if (g.faceReversed(f)) n = -1.0 * n;
