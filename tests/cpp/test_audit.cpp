@@ -132,7 +132,7 @@ TEST(Audit, AFlippedTriangleIsMisorientedAndFacesAgainstItsSurface) {
   EXPECT_EQ(r.faceMisorientedEdges, 3);
   EXPECT_EQ(r.solidMisorientedEdges, 3);
   EXPECT_EQ(r.invertedElements, 1);
-  EXPECT_EQ(r.folds, 3);  // its normal is opposite to its three neighbours'
+  EXPECT_EQ(r.folds, 0);  // folds are of consistently oriented neighbours: this one is misoriented
   EXPECT_EQ(r.faces, std::vector<int>{5});
 }
 

@@ -1,44 +1,56 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file EdgeUse.cpp
-/// Audit of how elements share mesh edges: inside each face (two uses running opposite ways, or one
-/// on a CAD edge), over the whole mesh (no more uses than the CAD edge has faces), and per closed
-/// solid (each edge used once each way by the solid's oriented elements).
+/// Audit of how elements share mesh edges, in one pass over a table of element sides grouped by
+/// mesh edge: inside each face (two uses running opposite ways, or one on a CAD edge; no fold),
+/// over the whole mesh (no more uses than the CAD edge has faces, no duplicate element), and per
+/// closed solid (each edge used once each way by the solid's oriented elements).
 #include <algorithm>
-#include <cstdint>
-#include <unordered_map>
+#include <cmath>
+#include <climits>
 
 #include "paramesh/audit/MeshAudit.hpp"
 
 namespace paramesh {
 namespace {
 
-uint64_t edgeKey(int a, int b) {
-  const uint32_t lo = (uint32_t)std::min(a, b), hi = (uint32_t)std::max(a, b);
-  return ((uint64_t)lo << 32) | hi;
-}
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kSegment = INT_MIN;  ///< face of a table entry that is a CAD edge's segment
 
-/// One element side: its mesh edge, the face (0-based), and whether it runs from the lower node.
-struct HalfEdge {
-  uint64_t key;
-  int face;
-  bool up;
+/// One element side (or segment) on mesh edge (lo, hi): lo is the table row it is in.
+struct Side {
+  int hi;
+  int face;  ///< 0-based face, kSegment for a segment
+  int elem;  ///< triangle t, or triangles + quad q; for a segment its 0-based CAD edge
+  bool up;   ///< the element runs from lo to hi
 };
 
-std::vector<HalfEdge> halfEdges(const SurfaceMesh& m) {
-  std::vector<HalfEdge> h;
-  h.reserve(3 * m.triangles.size() + 4 * m.quads.size());
-  auto add = [&](const int* c, int n, int face) {
-    for (int i = 0; i < n; ++i) {
-      const int a = c[i], b = c[(i + 1) % n];
-      h.push_back({edgeKey(a, b), face - 1, a < b});
-    }
+/// Element sides and segments grouped by their lower node (rows in CSR form), each row sorted
+/// by (hi, face): the uses of one mesh edge are consecutive, its segment first. Linear to build.
+struct EdgeTable {
+  std::vector<int> start;
+  std::vector<Side> sides;
+};
+
+EdgeTable buildTable(const SurfaceMesh& m) {
+  const int N = (int)m.nodes.size(), T = (int)m.triangles.size();
+  EdgeTable tab;
+  tab.start.assign(N + 1, 0);
+  auto each = [&](auto&& add) {
+    for (int t = 0; t < T; ++t)
+      for (int i = 0; i < 3; ++i) add(m.triangles[t][i], m.triangles[t][(i + 1) % 3], m.triangleFace[t] - 1, t);
+    for (int q = 0; q < (int)m.quads.size(); ++q)
+      for (int i = 0; i < 4; ++i) add(m.quads[q][i], m.quads[q][(i + 1) % 4], m.quadFace[q] - 1, T + q);
+    for (size_t s = 0; s < m.segments.size(); ++s) add(m.segments[s][0], m.segments[s][1], kSegment, m.segmentEdge[s] - 1);
   };
-  for (size_t t = 0; t < m.triangles.size(); ++t) add(m.triangles[t].data(), 3, m.triangleFace[t]);
-  for (size_t q = 0; q < m.quads.size(); ++q) add(m.quads[q].data(), 4, m.quadFace[q]);
-  std::sort(h.begin(), h.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.key != y.key ? x.key < y.key : x.face < y.face;
-  });
-  return h;
+  each([&](int a, int b, int, int) { ++tab.start[std::min(a, b) + 1]; });
+  for (int i = 0; i < N; ++i) tab.start[i + 1] += tab.start[i];
+  tab.sides.resize(tab.start[N]);
+  std::vector<int> fill(tab.start.begin(), tab.start.end() - 1);
+  each([&](int a, int b, int face, int elem) { tab.sides[fill[std::min(a, b)]++] = {std::max(a, b), face, elem, a < b}; });
+  for (int i = 0; i < N; ++i)
+    std::sort(tab.sides.begin() + tab.start[i], tab.sides.begin() + tab.start[i + 1],
+              [](const Side& x, const Side& y) { return x.hi != y.hi ? x.hi < y.hi : x.face < y.face; });
+  return tab;
 }
 
 /// Element uses of each CAD edge: one per occurrence in a face's wires (a seam counts twice).
@@ -54,10 +66,11 @@ std::vector<int> cadEdgeUses(const IGeometryModel& g) {
 struct Where {
   int count = 0;
   std::vector<int> faces, edges, solids;
-  void at(int face0, int edge0) {
+  void at(int face0, int edge0, int solid0 = -1) {
     ++count;
     if (face0 >= 0) faces.push_back(face0 + 1);
     if (edge0 >= 0) edges.push_back(edge0 + 1);
+    if (solid0 >= 0) solids.push_back(solid0 + 1);
   }
 };
 
@@ -67,135 +80,167 @@ void tally(AuditResult& r, int& field, const std::string& what, const Where& w) 
   if (w.count) addFinding(r, what, w.count, w.faces, w.edges, w.solids);
 }
 
-/// Faces and CAD closure of solid s: false (with the reason in note) when it is not checked.
-bool closedInCad(const IGeometryModel& g, int s, const std::vector<SolidFace>& faces, std::string& note) {
-  std::vector<int> seen(g.numFaces(), 0);
-  std::unordered_map<int, int> uses;
+/// Is closed solid s to be checked? Not when it uses a face twice (an internal face), has a
+/// face without elements (a failed face, named on its own) or is open in the CAD; note says why.
+bool checkable(const IGeometryModel& g, int s, const std::vector<SolidFace>& faces, const std::vector<char>& has,
+               std::string& note) {
+  const std::string solid = "Solid" + std::to_string(s + 1);
+  std::vector<int> seen(g.numFaces(), 0), uses(g.numEdges(), 0);
   for (const SolidFace& sf : faces) {
-    if (seen[sf.face]++) {
-      note = "Solid" + std::to_string(s + 1) + " uses Face" + std::to_string(sf.face + 1) +
-             " twice (an internal face): its closure is not checked";
-      return false;
-    }
+    const std::string face = "Face" + std::to_string(sf.face + 1);
+    if (seen[sf.face]++) return note = solid + " uses " + face + " twice (an internal face): its closure is not checked", false;
+    if (!has[sf.face]) return note = solid + " has " + face + " without elements: its closure is not checked", false;
     for (const Wire& w : g.faceWires(sf.face))
       for (const EdgeUse& u : w.uses) ++uses[u.edge];
   }
-  for (const auto& [e, n] : uses)
-    if (n != 2 && !g.edgeDegenerate(e)) {
-      note = "Solid" + std::to_string(s + 1) + " is not closed in the CAD (Edge" + std::to_string(e + 1) +
-             " has " + std::to_string(n) + " face uses): its closure is not checked";
-      return false;
-    }
+  for (int e = 0; e < g.numEdges(); ++e)
+    if (uses[e] && uses[e] != 2 && !g.edgeDegenerate(e))
+      return note = solid + " is not closed in the CAD (Edge" + std::to_string(e + 1) + " has " +
+                    std::to_string(uses[e]) + " face uses): its closure is not checked",
+             false;
   return true;
 }
 
-/// Per 0-based face: it has at least one element.
-std::vector<char> facesWithElements(const IGeometryModel& g, const SurfaceMesh& m) {
+/// Sorted corner nodes of element e (4th -1 for a triangle).
+std::array<int, 4> cornerSet(const SurfaceMesh& m, int e) {
+  const int T = (int)m.triangles.size();
+  std::array<int, 4> c{-1, -1, -1, -1};
+  if (e < T) std::copy(m.triangles[e].begin(), m.triangles[e].end(), c.begin() + 1);
+  else c = m.quads[e - T];
+  std::sort(c.begin(), c.end());
+  return c;
+}
+
+/// The whole audit of edge use, in one pass over the table's groups (one group per mesh edge).
+struct EdgePass {
+  const AuditInput& in;
+  const SurfaceMesh& m;
+  std::vector<int> cadUses;
+  std::vector<std::vector<std::pair<int, bool>>> solidsOf;  ///< per face: (checked solid, reversed)
+  double cosFold;
+  Where holes, overFace, misFace, nonManifold, folds, duplicates, open, over, misoriented;
+
+  bool copy(int f) const { return !in.copyFace.empty() && in.copyFace[f]; }
+
+  void group(int lo, const Side* s, int n) {
+    const int edge = s[0].face == kSegment ? s[0].elem : -1;
+    if (edge >= 0) ++s, --n;
+    if (n == 0) return;
+    int uses = 0;  // a coincident face's copy shares its source's edges: not counted again
+    for (int k = 0; k < n; ++k) uses += !copy(s[k].face);
+    if (uses > (edge < 0 ? 2 : std::max(2, cadUses[edge]))) nonManifold.at(s[0].face, edge);
+    for (int a = 0; a < n;) {  // per face
+      int b = a, up = 0;
+      for (; b < n && s[b].face == s[a].face; ++b) up += s[b].up;
+      if (b - a == 1 && edge < 0) holes.at(s[a].face, -1);
+      else if (b - a > 2) overFace.at(s[a].face, edge);
+      else if (b - a == 2 && up != 1) misFace.at(s[a].face, edge);
+      else if (b - a == 2 && edge < 0 && n == 2) fold(s[a], s[a + 1]);
+      a = b;
+    }
+    duplicatesOn(lo, s, n);
+    solidUse(s, n, edge);
+  }
+
+  void fold(const Side& a, const Side& b) {
+    const Vec3 na = elementNormal(m, a.elem), nb = elementNormal(m, b.elem);
+    const double l = norm(na) * norm(nb);
+    if (l > 0 && dot(na, nb) < cosFold * l) folds.at(a.face, -1);
+  }
+
+  /// Elements with the same corners share their two lowest corners' edge: each pair is found once,
+  /// on that edge.
+  void duplicatesOn(int lo, const Side* s, int n) {
+    for (int a = 0; a < n; ++a) {
+      if (copy(s[a].face)) continue;  // a copy repeats its source by design
+      const std::array<int, 4> ca = cornerSet(m, s[a].elem);
+      const int i0 = ca[0] < 0 ? 1 : 0;
+      if (ca[i0] != lo || ca[i0 + 1] != s[a].hi) continue;
+      for (int b = a + 1; b < n; ++b)
+        if (!copy(s[b].face) && cornerSet(m, s[b].elem) == ca) {
+          duplicates.at(s[a].face, -1);
+          duplicates.faces.push_back(s[b].face + 1);
+        }
+    }
+  }
+
+  void solidUse(const Side* s, int n, int edge) {
+    std::pair<int, int> count[8];  // (uses, runs lo->hi) per solid touching this edge; few
+    int solid[8], k = 0;
+    for (int a = 0; a < n; ++a)
+      for (const auto& [so, rev] : solidsOf[s[a].face]) {
+        int i = 0;
+        while (i < k && solid[i] != so) ++i;
+        if (i == k) {
+          if (k == 8) continue;
+          solid[k] = so, count[k++] = {0, 0};
+        }
+        ++count[i].first;
+        count[i].second += s[a].up != rev;
+      }
+    for (int i = 0; i < k; ++i) {
+      const auto [uses, up] = count[i];
+      Where* w = uses == 1 ? &open : uses > 2 ? &over : up != 1 ? &misoriented : nullptr;
+      if (w) w->at(s[0].face, edge, solid[i]);
+    }
+  }
+};
+
+}  // namespace
+
+Vec3 elementNormal(const SurfaceMesh& m, int e) {
+  const int T = (int)m.triangles.size();
+  if (e < T) {
+    const auto& t = m.triangles[e];
+    return cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]);
+  }
+  const auto& q = m.quads[e - T];
+  return cross(m.nodes[q[2]] - m.nodes[q[0]], m.nodes[q[3]] - m.nodes[q[1]]);
+}
+
+void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
+  const IGeometryModel& g = in.model;
+  const SurfaceMesh& m = in.mesh;
+  EdgePass pass{in, m, cadEdgeUses(g), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
+                std::cos(foldAngleDeg * kPi / 180.0), {}, {}, {}, {}, {}, {}, {}, {}, {}};
   std::vector<char> has(g.numFaces(), 0);
   for (int f : m.triangleFace) has[f - 1] = 1;
   for (int f : m.quadFace) has[f - 1] = 1;
-  return has;
-}
-
-/// A face without elements (one that failed) is one finding; the solids it bounds are not
-/// checked for closure (their open edges would only repeat it).
-bool hasEmptyFace(const std::vector<SolidFace>& faces, const std::vector<char>& has, int s, std::string& note) {
-  for (const SolidFace& sf : faces)
-    if (!has[sf.face]) {
-      note = "Solid" + std::to_string(s + 1) + " has Face" + std::to_string(sf.face + 1) +
-             " without elements: its closure is not checked";
-      return true;
-    }
-  return false;
-}
-
-void auditSolids(const AuditInput& in, const std::vector<HalfEdge>& all,
-                 const std::unordered_map<uint64_t, int>& cadEdgeOf, AuditResult& r) {
-  const IGeometryModel& g = in.model;
-  const std::vector<char> has = facesWithElements(g, in.mesh);
   Where empty;
   for (int f = 0; f < g.numFaces(); ++f)
     if (!has[f]) empty.at(f, -1);
   tally(r, r.emptyFaces, "faces without elements", empty);
-  Where open, over, misoriented;
   for (int s = 0; s < g.numSolids(); ++s) {
     const std::vector<SolidFace> faces = g.solidFaces(s);
     std::string note;
-    if (faces.empty() || hasEmptyFace(faces, has, s, note) || !closedInCad(g, s, faces, note)) {
+    if (faces.empty() || !checkable(g, s, faces, has, note)) {
       ++r.solidsSkipped;
       if (!note.empty()) r.notes.push_back(note);
       continue;
     }
     ++r.solidsChecked;
-    std::vector<int> flip(g.numFaces(), -1);  // -1: not in the solid, 0: as is, 1: reversed
-    for (const SolidFace& sf : faces) flip[sf.face] = sf.reversed;
-    size_t i = 0;
-    while (i < all.size()) {
-      size_t j = i;
-      int n = 0, up = 0, face = -1;
-      for (; j < all.size() && all[j].key == all[i].key; ++j) {
-        if (flip[all[j].face] < 0) continue;
-        ++n;
-        up += all[j].up != (flip[all[j].face] == 1);
-        face = all[j].face;
-      }
-      if (n > 0) {
-        const auto e = cadEdgeOf.find(all[i].key);
-        const int edge = e == cadEdgeOf.end() ? -1 : e->second;
-        Where* w = n == 1 ? &open : n > 2 ? &over : up != 1 ? &misoriented : nullptr;
-        if (w) {
-          w->at(face, edge);
-          w->solids.push_back(s + 1);
-        }
-      }
-      i = j;
-    }
+    for (const SolidFace& sf : faces) pass.solidsOf[sf.face].emplace_back(s, sf.reversed);
   }
-  tally(r, r.solidOpenEdges, "mesh edges of a closed solid used by one element (open)", open);
-  tally(r, r.solidOverusedEdges, "mesh edges of a closed solid used by more than two elements", over);
-  tally(r, r.solidMisorientedEdges, "mesh edges of a closed solid whose two elements run the same way (misoriented)",
-        misoriented);
-}
-
-}  // namespace
-
-void auditEdgeUse(const AuditInput& in, AuditResult& r) {
-  const SurfaceMesh& m = in.mesh;
-  std::unordered_map<uint64_t, int> cadEdgeOf;  // mesh edge on a CAD edge -> 0-based edge
-  cadEdgeOf.reserve(m.segments.size());
-  for (size_t k = 0; k < m.segments.size(); ++k)
-    cadEdgeOf.emplace(edgeKey(m.segments[k][0], m.segments[k][1]), m.segmentEdge[k] - 1);
-  const std::vector<int> cadUses = cadEdgeUses(in.model);
-  const std::vector<HalfEdge> all = halfEdges(m);
-  Where holes, overFace, misFace, nonManifold;
-  size_t i = 0;
-  while (i < all.size()) {
-    size_t j = i;
-    while (j < all.size() && all[j].key == all[i].key) ++j;
-    const auto e = cadEdgeOf.find(all[i].key);
-    const int edge = e == cadEdgeOf.end() ? -1 : e->second;
-    const int expected = edge < 0 ? 2 : std::max(2, cadUses[edge]);
-    int uses = 0;  // a coincident face's copy shares its source's edges: not counted again
-    for (size_t a = i; a < j; ++a) uses += in.copyFace.empty() || !in.copyFace[all[a].face];
-    if (uses > expected) nonManifold.at(all[i].face, edge);
-    for (size_t a = i; a < j;) {  // per face
-      size_t b = a;
-      int up = 0;
-      for (; b < j && all[b].face == all[a].face; ++b) up += all[b].up;
-      const int n = (int)(b - a);
-      if (n == 1 && edge < 0) holes.at(all[a].face, -1);
-      else if (n > 2) overFace.at(all[a].face, edge);
-      else if (n == 2 && up != 1) misFace.at(all[a].face, edge);
+  const EdgeTable tab = buildTable(m);
+  for (int lo = 0; lo + 1 < (int)tab.start.size(); ++lo)
+    for (int a = tab.start[lo], end = tab.start[lo + 1]; a < end;) {
+      int b = a;
+      while (b < end && tab.sides[b].hi == tab.sides[a].hi) ++b;
+      pass.group(lo, &tab.sides[a], b - a);
       a = b;
     }
-    i = j;
-  }
-  tally(r, r.openFaceEdges, "mesh edges inside a face used by one element (a hole in the face)", holes);
-  tally(r, r.faceOverusedEdges, "mesh edges used by more than two elements of one face", overFace);
-  tally(r, r.faceMisorientedEdges, "mesh edges whose two elements of one face run the same way", misFace);
+  tally(r, r.openFaceEdges, "mesh edges inside a face used by one element (a hole in the face)", pass.holes);
+  tally(r, r.faceOverusedEdges, "mesh edges used by more than two elements of one face", pass.overFace);
+  tally(r, r.faceMisorientedEdges, "mesh edges whose two elements of one face run the same way", pass.misFace);
   tally(r, r.nonManifoldEdges, "mesh edges used by more elements than their CAD edge has faces (non-manifold)",
-        nonManifold);
-  auditSolids(in, all, cadEdgeOf, r);
+        pass.nonManifold);
+  tally(r, r.duplicateElements, "elements with the same nodes as another element", pass.duplicates);
+  tally(r, r.folds, "edges inside a face whose two elements fold onto each other (normals over " +
+                        std::to_string((int)foldAngleDeg) + " degrees apart)", pass.folds);
+  tally(r, r.solidOpenEdges, "mesh edges of a closed solid used by one element (open)", pass.open);
+  tally(r, r.solidOverusedEdges, "mesh edges of a closed solid used by more than two elements", pass.over);
+  tally(r, r.solidMisorientedEdges, "mesh edges of a closed solid whose two elements run the same way (misoriented)",
+        pass.misoriented);
 }
 
 }  // namespace paramesh

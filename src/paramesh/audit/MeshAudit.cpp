@@ -49,8 +49,8 @@ void addFinding(AuditResult& r, const std::string& what, int count, const std::v
 AuditResult auditMesh(const AuditInput& in, double foldAngleDeg) {
   Timer t;
   AuditResult r;
-  auditEdgeUse(in, r);
-  auditElements(in, foldAngleDeg, r);
+  auditEdgeUse(in, foldAngleDeg, r);
+  auditElements(in, r);
   auditNodes(in, r);
   r.seconds = t.seconds();
   return r;

@@ -32,9 +32,12 @@ struct AuditInput {
 AuditResult auditMesh(const AuditInput& in, double foldAngleDeg = 160.0);
 
 // The audit's parts (audit/*.cpp); each adds its counts, entities and problems to r.
-void auditEdgeUse(const AuditInput& in, AuditResult& r);
-void auditElements(const AuditInput& in, double foldAngleDeg, AuditResult& r);
+void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r);
+void auditElements(const AuditInput& in, AuditResult& r);
 void auditNodes(const AuditInput& in, AuditResult& r);
+
+/// Normal of element e (a triangle when e < triangles, else quad e - triangles), not normalised.
+Vec3 elementNormal(const SurfaceMesh& m, int e);
 
 /// Adds one finding: problem text with up to a few named entities.
 void addFinding(AuditResult& r, const std::string& what, int count, const std::vector<int>& faces,
