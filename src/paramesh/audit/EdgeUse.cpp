@@ -66,7 +66,9 @@ std::vector<int> cadEdgeUses(const IGeometryModel& g) {
 struct Where {
   int count = 0;
   std::vector<int> faces, edges, solids;
-  void at(int face0, int edge0, int solid0 = -1) {
+  Vec3 first{0, 0, 0};  ///< where the first one is
+  void at(Vec3 p, int face0, int edge0, int solid0 = -1) {
+    if (!count) first = p;
     ++count;
     if (face0 >= 0) faces.push_back(face0 + 1);
     if (edge0 >= 0) edges.push_back(edge0 + 1);
@@ -77,7 +79,7 @@ struct Where {
 /// The finding's count into its field of r, and its line when there is one.
 void tally(AuditResult& r, int& field, const std::string& what, const Where& w) {
   field = w.count;
-  if (w.count) addFinding(r, what, w.count, w.faces, w.edges, w.solids);
+  if (w.count) addFinding(r, what, w.count, w.faces, w.edges, w.solids, &w.first);
 }
 
 /// Is closed solid s to be checked? Not when it uses a face twice (an internal face), has a
@@ -123,34 +125,35 @@ struct EdgePass {
   bool copy(int f) const { return !in.copyFace.empty() && in.copyFace[f]; }
 
   void group(int lo, const Side* s, int n) {
+    const Vec3 mid = 0.5 * (m.nodes[lo] + m.nodes[s[0].hi]);
     const int edge = s[0].face == kSegment ? s[0].elem : -1;
     if (edge >= 0) ++s, --n;
     if (n == 0) return;
     int uses = 0;  // a coincident face's copy shares its source's edges: not counted again
     for (int k = 0; k < n; ++k) uses += !copy(s[k].face);
-    if (uses > (edge < 0 ? 2 : std::max(2, cadUses[edge]))) nonManifold.at(s[0].face, edge);
+    if (uses > (edge < 0 ? 2 : std::max(2, cadUses[edge]))) nonManifold.at(mid, s[0].face, edge);
     for (int a = 0; a < n;) {  // per face
       int b = a, up = 0;
       for (; b < n && s[b].face == s[a].face; ++b) up += s[b].up;
-      if (b - a == 1 && edge < 0) holes.at(s[a].face, -1);
-      else if (b - a > 2) overFace.at(s[a].face, edge);
-      else if (b - a == 2 && up != 1) misFace.at(s[a].face, edge);
-      else if (b - a == 2 && edge < 0 && n == 2) fold(s[a], s[a + 1]);
+      if (b - a == 1 && edge < 0) holes.at(mid, s[a].face, -1);
+      else if (b - a > 2) overFace.at(mid, s[a].face, edge);
+      else if (b - a == 2 && up != 1) misFace.at(mid, s[a].face, edge);
+      else if (b - a == 2 && edge < 0 && n == 2) fold(mid, s[a], s[a + 1]);
       a = b;
     }
-    duplicatesOn(lo, s, n);
-    solidUse(s, n, edge);
+    duplicatesOn(lo, mid, s, n);
+    solidUse(mid, s, n, edge);
   }
 
-  void fold(const Side& a, const Side& b) {
+  void fold(Vec3 mid, const Side& a, const Side& b) {
     const Vec3 na = elementNormal(m, a.elem), nb = elementNormal(m, b.elem);
     const double l = norm(na) * norm(nb);
-    if (l > 0 && dot(na, nb) < cosFold * l) folds.at(a.face, -1);
+    if (l > 0 && dot(na, nb) < cosFold * l) folds.at(mid, a.face, -1);
   }
 
   /// Elements with the same corners share their two lowest corners' edge: each pair is found once,
   /// on that edge.
-  void duplicatesOn(int lo, const Side* s, int n) {
+  void duplicatesOn(int lo, Vec3 mid, const Side* s, int n) {
     for (int a = 0; a < n; ++a) {
       if (copy(s[a].face)) continue;  // a copy repeats its source by design
       const std::array<int, 4> ca = cornerSet(m, s[a].elem);
@@ -158,13 +161,13 @@ struct EdgePass {
       if (ca[i0] != lo || ca[i0 + 1] != s[a].hi) continue;
       for (int b = a + 1; b < n; ++b)
         if (!copy(s[b].face) && cornerSet(m, s[b].elem) == ca) {
-          duplicates.at(s[a].face, -1);
+          duplicates.at(mid, s[a].face, -1);
           duplicates.faces.push_back(s[b].face + 1);
         }
     }
   }
 
-  void solidUse(const Side* s, int n, int edge) {
+  void solidUse(Vec3 mid, const Side* s, int n, int edge) {
     std::pair<int, int> count[8];  // (uses, runs lo->hi) per solid touching this edge; few
     int solid[8], k = 0;
     for (int a = 0; a < n; ++a)
@@ -181,7 +184,7 @@ struct EdgePass {
     for (int i = 0; i < k; ++i) {
       const auto [uses, up] = count[i];
       Where* w = uses == 1 ? &open : uses > 2 ? &over : up != 1 ? &misoriented : nullptr;
-      if (w) w->at(s[0].face, edge, solid[i]);
+      if (w) w->at(mid, s[0].face, edge, solid[i]);
     }
   }
 };
@@ -208,8 +211,9 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
   for (int f : m.quadFace) has[f - 1] = 1;
   Where empty;
   for (int f = 0; f < g.numFaces(); ++f)
-    if (!has[f]) empty.at(f, -1);
-  tally(r, r.emptyFaces, "faces without elements", empty);
+    if (!has[f]) empty.at(Vec3{0, 0, 0}, f, -1);
+  r.emptyFaces = empty.count;
+  if (empty.count) addFinding(r, "faces without elements", empty.count, empty.faces);
   for (int s = 0; s < g.numSolids(); ++s) {
     const std::vector<SolidFace> faces = g.solidFaces(s);
     std::string note;

@@ -67,6 +67,7 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
       for (const EdgeUse& u : w.uses) hasDegenerateEdge[f] |= g.edgeDegenerate(u.edge);
   std::vector<int> faces;
   int inverted = 0;
+  Vec3 first{0, 0, 0};
   const int T = (int)m.triangles.size(), Q = (int)m.quads.size();
   for (int e = 0; e < T + Q; ++e) {
     const int f = elementFace(m, e);
@@ -85,12 +86,12 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
     if (!surf[f]->normal(c, n)) continue;
     if (g.faceReversed(f)) n = -1.0 * n;
     if (dot(elementNormal(m, e), n) < 0) {
-      ++inverted;
+      if (!inverted++) first = surf[f]->eval(c);
       faces.push_back(f + 1);
     }
   }
   r.invertedElements = inverted;
-  if (inverted) addFinding(r, "elements facing against their face's outward normal", inverted, faces);
+  if (inverted) addFinding(r, "elements facing against their face's outward normal", inverted, faces, {}, {}, &first);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "paramesh/util/Format.hpp"
 #include "paramesh/util/Timer.hpp"
 
 namespace paramesh {
@@ -25,6 +26,8 @@ std::string names(const char* kind, std::vector<int> ids) {
   return s;
 }
 
+std::string fmtPoint(Vec3 p) { return "(" + fmt(p.x) + ", " + fmt(p.y) + ", " + fmt(p.z) + ")"; }
+
 void merge(std::vector<int>& into, const std::vector<int>& from) {
   into.insert(into.end(), from.begin(), from.end());
   unique(into);
@@ -33,12 +36,13 @@ void merge(std::vector<int>& into, const std::vector<int>& from) {
 }  // namespace
 
 void addFinding(AuditResult& r, const std::string& what, int count, const std::vector<int>& faces,
-                const std::vector<int>& edges, const std::vector<int>& solids) {
+                const std::vector<int>& edges, const std::vector<int>& solids, const Vec3* first) {
   std::string line = std::to_string(count) + " " + what;
   std::string where;
   for (const auto& [kind, ids] : {std::make_pair("Solid", &solids), std::make_pair("Face", &faces),
                                   std::make_pair("Edge", &edges)})
     if (!ids->empty()) where += (where.empty() ? "" : "; ") + names(kind, *ids);
+  if (first) where += (where.empty() ? "" : "; ") + ("first at " + fmtPoint(*first));
   if (!where.empty()) line += " (" + where + ")";
   r.problems.push_back(line);
   merge(r.faces, faces);

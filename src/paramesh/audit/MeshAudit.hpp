@@ -39,8 +39,8 @@ void auditNodes(const AuditInput& in, AuditResult& r);
 /// Normal of element e (a triangle when e < triangles, else quad e - triangles), not normalised.
 Vec3 elementNormal(const SurfaceMesh& m, int e);
 
-/// Adds one finding: problem text with up to a few named entities.
+/// Adds one finding: problem text with up to a few named entities, and where the first one is.
 void addFinding(AuditResult& r, const std::string& what, int count, const std::vector<int>& faces,
-                const std::vector<int>& edges = {}, const std::vector<int>& solids = {});
+                const std::vector<int>& edges = {}, const std::vector<int>& solids = {}, const Vec3* first = nullptr);
 
 }  // namespace paramesh
