@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "paramesh/audit/MeshAudit.hpp"
+#include "paramesh/audit/Repair.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/pipeline/Mesher.hpp"
 #include "occ_fixtures.hpp"
@@ -191,6 +192,29 @@ TEST(Audit, AFaceWithoutElementsIsNamedAndItsSolidNotCheckedForClosure) {
   EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) {
     return n.find("Solid1 has Face4 without elements") != std::string::npos;
   }));
+}
+
+TEST(Audit, ANodePushedAcrossItsNeighboursIsMovedBackByTheRepair) {
+  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
+  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  const int t = interiorTriangle(m, 6);
+  ASSERT_GE(t, 0);
+  const int v = m.triangles[t][0];
+  // across the opposite side, in the face's plane: the triangles around v fold over
+  const Vec3 far = m.nodes[m.triangles[t][1]] + m.nodes[m.triangles[t][2]] - m.nodes[v];
+  auto s = g->makeSurface(5);
+  Vec2 uv = m.nodeParam[v];
+  ASSERT_TRUE(s->project(far, uv, &m.nodes[v]));
+  m.nodeParam[v] = uv;
+  std::vector<std::array<Vec2, 3>> tuv = cornerUv(*g, m);
+  std::vector<std::array<Vec2, 4>> quv;
+  const AuditResult before = auditMesh(AuditInput{*g, m, tuv, quv, {}});
+  ASSERT_GT(before.invertedElements, 0);
+  EXPECT_GT(before.folds, 0);
+  EXPECT_EQ(repairBadElements(*g, m, tuv, quv, before.badElements), 1);
+  const AuditResult after = auditMesh(AuditInput{*g, m, tuv, quv, {}});
+  EXPECT_EQ(total(after), 0) << (after.problems.empty() ? "" : after.problems[0]);
+  EXPECT_LT(after.worstNodeOffset, 1e-9);  // moved on its face
 }
 
 TEST(Audit, ProblemsNameEntitiesAndCountTheRest) {

@@ -33,6 +33,10 @@ struct AuditResult {
   std::vector<int> faces, edges, solids;  ///< 1-based entities touched by a finding (sorted)
   std::vector<std::string> problems;      ///< one line per kind of finding, naming entities
   std::vector<std::string> notes;         ///< what was not checked, and why
+  /// elements folded onto a neighbour or facing against their surface (triangle t, or triangles +
+  /// quad q): what the repair (audit/Repair.hpp) works on
+  std::vector<int> badElements;
+  int repairedNodes = 0;                  ///< nodes the repair moved (0: none, or no repair ran)
   double seconds = 0;
 
   bool run = false;  ///< the audit ran (false: the run stopped before it)

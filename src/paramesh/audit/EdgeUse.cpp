@@ -120,6 +120,7 @@ struct EdgePass {
   std::vector<int> cadUses;
   std::vector<std::vector<std::pair<int, bool>>> solidsOf;  ///< per face: (checked solid, reversed)
   double cosFold;
+  std::vector<int> bad;  ///< the folded elements
   Where holes, overFace, misFace, nonManifold, folds, duplicates, open, over, misoriented;
 
   bool copy(int f) const { return !in.copyFace.empty() && in.copyFace[f]; }
@@ -148,7 +149,11 @@ struct EdgePass {
   void fold(Vec3 mid, const Side& a, const Side& b) {
     const Vec3 na = elementNormal(m, a.elem), nb = elementNormal(m, b.elem);
     const double l = norm(na) * norm(nb);
-    if (l > 0 && dot(na, nb) < cosFold * l) folds.at(mid, a.face, -1);
+    if (l > 0 && dot(na, nb) < cosFold * l) {
+      folds.at(mid, a.face, -1);
+      bad.push_back(a.elem);
+      bad.push_back(b.elem);
+    }
   }
 
   /// Elements with the same corners share their two lowest corners' edge: each pair is found once,
@@ -205,7 +210,7 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
   const IGeometryModel& g = in.model;
   const SurfaceMesh& m = in.mesh;
   EdgePass pass{in, m, cadEdgeUses(g), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
-                std::cos(foldAngleDeg * kPi / 180.0), {}, {}, {}, {}, {}, {}, {}, {}, {}};
+                std::cos(foldAngleDeg * kPi / 180.0), {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   std::vector<char> has(g.numFaces(), 0);
   for (int f : m.triangleFace) has[f - 1] = 1;
   for (int f : m.quadFace) has[f - 1] = 1;
@@ -233,6 +238,7 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
       pass.group(lo, &tab.sides[a], b - a);
       a = b;
     }
+  r.badElements.insert(r.badElements.end(), pass.bad.begin(), pass.bad.end());
   tally(r, r.openFaceEdges, "mesh edges inside a face used by one element (a hole in the face)", pass.holes);
   tally(r, r.faceOverusedEdges, "mesh edges used by more than two elements of one face", pass.overFace);
   tally(r, r.faceMisorientedEdges, "mesh edges whose two elements of one face run the same way", pass.misFace);

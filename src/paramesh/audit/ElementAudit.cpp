@@ -87,6 +87,7 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
     if (g.faceReversed(f)) n = -1.0 * n;
     if (dot(elementNormal(m, e), n) < 0) {
       if (!inverted++) first = surf[f]->eval(c);
+      r.badElements.push_back(e);
       faces.push_back(f + 1);
     }
   }

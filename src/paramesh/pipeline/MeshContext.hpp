@@ -15,6 +15,7 @@
 
 #include "paramesh/algo/boundary_layer/BoundaryLayer.hpp"
 #include "paramesh/algo/FaceMesher.hpp"
+#include "paramesh/audit/MeshAudit.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/model/NarrowZones.hpp"
 #include "paramesh/pipeline/Mesher.hpp"
@@ -312,9 +313,15 @@ struct MeshContext {
   void finish();
 
   // ================================================================ stages/audit (Audit.cpp)
+  /// Before the volume and second-order stages: elements of the surface mesh folded onto a
+  /// neighbour or facing against their surface are repaired where moving their face nodes on the
+  /// surface mends them (audit/Repair.hpp). Writes mesh, triUv, quadUv, repairedNodes.
+  void repairSurface();
+  int repairedNodes = 0;
   /// The finished mesh audited (audit/MeshAudit.hpp): report.audit; a finding makes an ok run
   /// degraded, naming the faces and edges. Reads mesh, triUv, quadUv, faceStage.copyOf.
   void audit();
+  AuditInput auditInput() const;
 
   /// The smallest radius of curvature that triangles of the min-size can follow at the curvature
   /// angle (0: no curvature angle).

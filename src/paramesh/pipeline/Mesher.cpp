@@ -55,6 +55,7 @@ MeshOutput Mesher::runUnbudgeted() {
   if (c.p.proximity > 0) c.addProximitySources();
   c.planBoundaryLayers();      // layer_plan: row heights, end columns on the neighbour edges
   c.meshRounds();              // edges and faces, again while the nearest-face check refines
+  c.repairSurface();           // audit: folded / inverted elements mended where moving face nodes can
   if (c.p.volume) c.fillSolids();  // volume: tetrahedra inside each closed solid (nglib)
   if (c.p.order == 2) c.secondOrder();
   c.finish();                  // report: quality, deviation, warnings

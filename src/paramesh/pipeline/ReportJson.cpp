@@ -35,6 +35,7 @@ Json auditToJson(const AuditResult& a) {
   j["solids_checked"] = a.solidsChecked;
   j["solids_skipped"] = a.solidsSkipped;
   j["nodes_checked"] = a.nodesChecked;
+  j["repaired_nodes"] = a.repairedNodes;
   j["worst_node_offset"] = a.worstNodeOffset;
   j["faces"] = names("Face", a.faces);
   j["edges"] = names("Edge", a.edges);

@@ -4,17 +4,37 @@
 /// A finding turns an ok run into a degraded one (exit 3) whose message names the faces and edges;
 /// the counts go to report.audit either way.
 #include "paramesh/audit/MeshAudit.hpp"
+#include "paramesh/audit/Repair.hpp"
 #include "paramesh/pipeline/MeshContext.hpp"
 
 namespace paramesh {
 
-void MeshContext::audit() {
-  progress.report(1.0, "audit");
+AuditInput MeshContext::auditInput() const {
   AuditInput in{model, mesh, triUv, quadUv, {}};
   in.copyFace.assign(model.numFaces(), 0);
   for (size_t f = 0; f < faceStage.copyOf.size() && f < in.copyFace.size(); ++f) in.copyFace[f] = faceStage.copyOf[f] >= 0;
-  report.audit = auditMesh(in);
+  return in;
+}
+
+void MeshContext::repairSurface() {
+  Timer t;
+  const AuditResult first = auditMesh(auditInput());
+  if (!first.badElements.empty()) {
+    repairedNodes = repairBadElements(model, mesh, triUv, quadUv, first.badElements);
+    if (repairedNodes) {
+      log.info("audit: " + std::to_string(first.badElements.size()) + " folded or inverted elements: " +
+               std::to_string(repairedNodes) + " of their face nodes moved on the surface to mend them");
+      report.quality = summarizeQuality(mesh, [this](Vec3 x) { return field.size(x); });
+    }
+  }
+  stage("audit", t.seconds());
+}
+
+void MeshContext::audit() {
+  progress.report(1.0, "audit");
+  report.audit = auditMesh(auditInput());
   report.audit.run = true;
+  report.audit.repairedNodes = repairedNodes;
   stage("audit", report.audit.seconds);
   for (const std::string& n : report.audit.notes) log.info("audit: " + n);
   if (report.audit.passed()) return;
