@@ -25,6 +25,9 @@ def test_random_options_mesh_or_refuse(tmp_path):
     r = json.loads(out)
     assert p.returncode == 0 and not r["failures"], r["failures"]
     assert r["cases"] == 12
-    assert r["counts"].get("exit 0", 0) >= 9, r["counts"]       # measured 12 of 12
+    assert r["counts"].get("exit 0", 0) >= 9, r["counts"]       # measured 11 of 12
+    # a run the final audit did not pass is degraded (exit 3) with its problems named; measured: 1,
+    # occBSplCone's apex with a layer on its seam (a triangle there spans half the cone)
+    assert len(r["degraded_by_audit"]) <= 1, r["degraded_by_audit"]
     for x in r["refused"]:                                      # a refusal says why, in one line
         assert x["reason"] and "\n" not in x["reason"], x

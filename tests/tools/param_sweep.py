@@ -11,8 +11,8 @@ random edges (first height size / 200 to size / 5, 1 to 12 rows). The run gets a
 case whose element estimate is huge is expected to stop at --max-elements, set to 3e6). Every
 outcome must be one of: exit 0 (or 3, some faces failed, each named in the report) with a mesh
 that passes fuzz_inputs.py's check (finite coordinates, no triangle with a repeated node, every
-triangle and quad edge used at most twice, no unused node) whose report's final audit passed, or an exit code 1-5 with a one-line
-reason. A signal, a sanitizer report, a time-out or a
+triangle and quad edge used at most twice, no unused node; a run whose final audit did not pass must
+exit 3, and is listed in "degraded_by_audit"), or an exit code 1-5 with a one-line reason. A signal, a sanitizer report, a time-out or a
 reason of several lines is a failure; its command line is kept in DIR/failures.txt.
 Prints JSON: counts per outcome, the refusals (exit 1-5: reason and command) and the failures.
 Exit status 1 when any failed. Run with Debian's /usr/bin/python3 (meshio)."""
@@ -88,7 +88,7 @@ def main():
     rng = random.Random(a.seed)
     info = {m: diag_and_edges(m) for m in a.models}
     os.makedirs(a.out, exist_ok=True)
-    counts, failures, refused = {}, [], []
+    counts, failures, refused, degraded = {}, [], [], []
     for i in range(a.cases):
         model = rng.choice(a.models)
         args = draw(rng, model, *info[model])
@@ -114,7 +114,11 @@ def main():
             why = "sanitizer report"
         elif rc in (0, 3):
             why = check_mesh(out) if os.path.exists(out) else "no mesh written"
-            why = why or audit_failure(rep)
+            audit = None if why else audit_failure(rep)
+            if audit and rc != 3:
+                why = "the audit failed but the exit code is %s: %s" % (rc, audit)
+            elif audit:  # reported: degraded, exit 3, the faces named
+                degraded.append({"case": i, "audit": audit, "cmd": " ".join(cmd)})
         elif len(err.strip().splitlines()) != 1:
             why = "reason of %d lines" % len(err.strip().splitlines())
         key = "failed" if why else ("exit %s" % rc)
@@ -125,7 +129,8 @@ def main():
             failures.append({"case": i, "why": why, "cmd": " ".join(cmd), "stderr": err[-2000:]})
             with open(os.path.join(a.out, "failures.txt"), "a") as f:
                 f.write(" ".join(cmd) + "\n  " + why + "\n")
-    print(json.dumps({"cases": a.cases, "counts": counts, "refused": refused, "failures": failures}, indent=1))
+    print(json.dumps({"cases": a.cases, "counts": counts, "refused": refused, "degraded_by_audit": degraded,
+                      "failures": failures}, indent=1))
     sys.exit(1 if failures else 0)
 
 
