@@ -60,39 +60,51 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
     return;
   }
   const IGeometryModel& g = in.model;
-  std::vector<std::unique_ptr<ISurface>> surf(g.numFaces());
   std::vector<char> hasDegenerateEdge(g.numFaces(), 0);  // where a pole or apex may be
   for (int f = 0; f < g.numFaces(); ++f)
     for (const Wire& w : g.faceWires(f))
       for (const EdgeUse& u : w.uses) hasDegenerateEdge[f] |= g.edgeDegenerate(u.edge);
-  std::vector<int> faces;
-  int inverted = 0;
-  Vec3 first{0, 0, 0};
+  struct Part {
+    std::vector<int> bad, faces;
+    Vec3 first{0, 0, 0};
+  };
   const int T = (int)m.triangles.size(), Q = (int)m.quads.size();
-  for (int e = 0; e < T + Q; ++e) {
-    const int f = elementFace(m, e);
-    if (f < 0 || (!in.copyFace.empty() && in.copyFace[f])) continue;
-    if (!surf[f]) surf[f] = g.makeSurface(f);
-    const bool singular = hasDegenerateEdge[f];
-    const Vec2* uv = e < T ? in.triUv[e].data() : in.quadUv[e - T].data();
-    const int corners = e < T ? 3 : 4;
-    Vec2 c{0, 0};
-    int used = 0;
-    for (int i = 0; i < corners; ++i)  // a corner at a pole or apex has an arbitrary u (or v)
-      if (!singular || !atSingularPoint(*surf[f], uv[i])) c = c + uv[i], ++used;
-    if (!used) continue;
-    c = (1.0 / used) * c;
-    Vec3 n;
-    if (!surf[f]->normal(c, n)) continue;
-    if (g.faceReversed(f)) n = -1.0 * n;
-    if (dot(elementNormal(m, e), n) < 0) {
-      if (!inverted++) first = surf[f]->eval(c);
-      r.badElements.push_back(e);
-      faces.push_back(f + 1);
+  std::vector<Part> parts((T + Q + kAuditChunk - 1) / kAuditChunk);
+  auditChunks(T + Q, in.threads, [&](int begin, int end, int chunk) {
+    Part& part = parts[chunk];
+    std::vector<std::unique_ptr<ISurface>> surf(g.numFaces());  // one thread's evaluators
+    for (int e = begin; e < end; ++e) {
+      const int f = elementFace(m, e);
+      if (f < 0 || (!in.copyFace.empty() && in.copyFace[f])) continue;
+      if (!surf[f]) surf[f] = g.makeSurface(f);
+      const Vec2* uv = e < T ? in.triUv[e].data() : in.quadUv[e - T].data();
+      const int corners = e < T ? 3 : 4;
+      Vec2 c{0, 0};
+      int used = 0;
+      for (int i = 0; i < corners; ++i)  // a corner at a pole or apex has an arbitrary u (or v)
+        if (!hasDegenerateEdge[f] || !atSingularPoint(*surf[f], uv[i])) c = c + uv[i], ++used;
+      if (!used) continue;
+      c = (1.0 / used) * c;
+      Vec3 n;
+      if (!surf[f]->normal(c, n)) continue;
+      if (g.faceReversed(f)) n = -1.0 * n;
+      if (dot(elementNormal(m, e), n) < 0) {
+        if (part.bad.empty()) part.first = surf[f]->eval(c);
+        part.bad.push_back(e);
+        part.faces.push_back(f + 1);
+      }
     }
+  });
+  std::vector<int> faces;
+  const Vec3* first = nullptr;
+  for (const Part& part : parts) {
+    if (!first && !part.bad.empty()) first = &part.first;
+    r.badElements.insert(r.badElements.end(), part.bad.begin(), part.bad.end());
+    faces.insert(faces.end(), part.faces.begin(), part.faces.end());
+    r.invertedElements += (int)part.bad.size();
   }
-  r.invertedElements = inverted;
-  if (inverted) addFinding(r, "elements facing against their face's outward normal", inverted, faces, {}, {}, &first);
+  if (r.invertedElements)
+    addFinding(r, "elements facing against their face's outward normal", r.invertedElements, faces, {}, {}, first);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "paramesh/util/Format.hpp"
+#include "paramesh/util/Parallel.hpp"
 #include "paramesh/util/Timer.hpp"
 
 namespace paramesh {
@@ -50,12 +51,18 @@ void addFinding(AuditResult& r, const std::string& what, int count, const std::v
   merge(r.solids, solids);
 }
 
+int auditChunks(int n, int threads, const std::function<void(int, int, int)>& work) {
+  const int chunks = (n + kAuditChunk - 1) / kAuditChunk;
+  parallelFor(chunks, threads, [&](int c) { work(c * kAuditChunk, std::min(n, (c + 1) * kAuditChunk), c); });
+  return chunks;
+}
+
 AuditResult auditMesh(const AuditInput& in, double foldAngleDeg) {
   Timer t;
   AuditResult r;
   auditEdgeUse(in, foldAngleDeg, r);
   auditElements(in, r);
-  auditNodes(in, r);
+  if (in.nodes) auditNodes(in, r);
   r.seconds = t.seconds();
   return r;
 }

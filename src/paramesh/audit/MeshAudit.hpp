@@ -7,6 +7,7 @@
 /// anything is never reported "ok".
 #pragma once
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,14 @@ struct AuditInput {
   const std::vector<std::array<Vec2, 4>>& quadUv;
   /// per 0-based face: 1 when its elements are a coincident face's copy (orientation not checked)
   std::vector<char> copyFace;
+  int threads = 1;     ///< for the checks that evaluate the CAD (orientation, nodes); same result for any count
+  bool nodes = true;   ///< check the nodes (coincident, on the CAD); false: the elements only
 };
+
+/// Runs work(begin, end, chunk) over [0, n) in fixed chunks on `threads` threads (chunk-ordered
+/// results make the outcome independent of the thread count). Returns the number of chunks.
+int auditChunks(int n, int threads, const std::function<void(int, int, int)>& work);
+constexpr int kAuditChunk = 8192;
 
 /// Audits in.mesh against in.model (reads only). The fold threshold: two elements of one face
 /// meeting at an interior edge with normals more than foldAngleDeg apart.

@@ -80,63 +80,92 @@ std::vector<std::array<int, 2>> chords(const SurfaceMesh& m) {
   return c;
 }
 
-void auditOnCad(const AuditInput& in, double diag, AuditResult& r) {
-  const SurfaceMesh& m = in.mesh;
-  const IGeometryModel& g = in.model;
-  std::vector<std::unique_ptr<ISurface>> surf(g.numFaces());
-  std::vector<std::unique_ptr<ICurve>> curve(g.numEdges());
-  std::vector<char> curveMade(g.numEdges(), 0);
-  const std::vector<std::array<int, 2>> chord = chords(m);
+/// One thread's evaluators (made on first use) and findings over a chunk of nodes.
+struct NodeChunk {
+  std::vector<std::unique_ptr<ISurface>> surf;
+  std::vector<UVBox> box;
+  std::vector<std::unique_ptr<ICurve>> curve;
+  std::vector<char> curveMade;
   std::vector<int> faces, edges;
   int off = 0, checked = 0;
   double worst = 0;
-  for (size_t i = 0; i < m.nodes.size(); ++i) {
-    const int ent = m.nodeEntity[i] - 1;
-    const Vec3 x = m.nodes[i];
-    const Vec2 prm = m.nodeParam[i];
-    double d = 0, tol = kFloor * diag;
-    bool inside = true;
-    switch (m.nodeKind[i]) {
-      case NodeKind::Vertex:
-        d = dist(x, g.vertexPoint(ent));
-        tol = std::max(tol, g.vertexTolerance(ent));
-        break;
-      case NodeKind::Edge: {
-        if (!curveMade[ent]) curve[ent] = g.makeCurve(ent), curveMade[ent] = 1;
-        if (!curve[ent]) continue;  // degenerate edge: its nodes are its vertex's
-        double t0, t1;
-        g.edgeRange(ent, t0, t1);
-        inside = inRange(prm.x, std::min(t0, t1), std::max(t0, t1), 0);
-        d = dist(x, curve[ent]->eval(prm.x));
-        tol = std::max(tol, g.edgeTolerance(ent));
-        break;
-      }
-      case NodeKind::Face: {
-        if (!surf[ent]) surf[ent] = g.makeSurface(ent);
-        const UVBox b = surf[ent]->bounds();
-        inside = inRange(prm.x, b.u0, b.u1, surf[ent]->uPeriod()) && inRange(prm.y, b.v0, b.v1, surf[ent]->vPeriod());
-        d = dist(x, surf[ent]->eval(prm));
-        tol = std::max(tol, g.faceTolerance(ent));
-        break;
-      }
-      default:
-        continue;  // inside a solid
+};
+
+/// Distance of node i to its entity, and whether its parameter lies in the entity's range;
+/// false for nodes not checked (inside a solid, on a degenerate edge).
+bool nodeOffset(const IGeometryModel& g, const SurfaceMesh& m, size_t i, NodeChunk& c, double& d, double& tol,
+                bool& inside) {
+  const int ent = m.nodeEntity[i] - 1;
+  const Vec3 x = m.nodes[i];
+  const Vec2 prm = m.nodeParam[i];
+  switch (m.nodeKind[i]) {
+    case NodeKind::Vertex:
+      d = dist(x, g.vertexPoint(ent));
+      tol = std::max(tol, g.vertexTolerance(ent));
+      return true;
+    case NodeKind::Edge: {
+      if (!c.curveMade[ent]) c.curve[ent] = g.makeCurve(ent), c.curveMade[ent] = 1;
+      if (!c.curve[ent]) return false;  // degenerate edge: its nodes are its vertex's
+      double t0, t1;
+      g.edgeRange(ent, t0, t1);
+      inside = inRange(prm.x, std::min(t0, t1), std::max(t0, t1), 0);
+      d = dist(x, c.curve[ent]->eval(prm.x));
+      tol = std::max(tol, g.edgeTolerance(ent));
+      return true;
     }
-    ++checked;
-    if (chord[i][0] >= 0 && !(d <= tol && inside)) {  // a straightened mid-node sits on its chord
-      const double dc = dist(x, 0.5 * (m.nodes[chord[i][0]] + m.nodes[chord[i][1]]));
-      if (dc <= kFloor * diag) d = 0, inside = true;
+    case NodeKind::Face: {
+      if (!c.surf[ent]) c.surf[ent] = g.makeSurface(ent), c.box[ent] = c.surf[ent]->bounds();
+      const ISurface& s = *c.surf[ent];
+      const UVBox& b = c.box[ent];
+      inside = inRange(prm.x, b.u0, b.u1, s.uPeriod()) && inRange(prm.y, b.v0, b.v1, s.vPeriod());
+      d = dist(x, s.eval(prm));
+      tol = std::max(tol, g.faceTolerance(ent));
+      return true;
     }
-    if (!(d <= tol) || !inside) {
-      ++off;
-      if (m.nodeKind[i] != NodeKind::Vertex) (m.nodeKind[i] == NodeKind::Face ? faces : edges).push_back(ent + 1);
-    }
-    worst = std::isfinite(d) ? std::max(worst, d) : d;
+    default:
+      return false;  // inside a solid
   }
-  r.nodesChecked = checked;
-  r.nodesOffCad = off;
-  r.worstNodeOffset = worst;
-  if (off) addFinding(r, "nodes off their CAD entity (farther than its tolerance, or outside its parameter range)", off, faces, edges);
+}
+
+void auditOnCad(const AuditInput& in, double diag, AuditResult& r) {
+  const SurfaceMesh& m = in.mesh;
+  const IGeometryModel& g = in.model;
+  const std::vector<std::array<int, 2>> chord = chords(m);
+  const int N = (int)m.nodes.size();
+  std::vector<NodeChunk> parts((N + kAuditChunk - 1) / kAuditChunk);
+  auditChunks(N, in.threads, [&](int begin, int end, int k) {
+    NodeChunk& c = parts[k];
+    c.surf.resize(g.numFaces());
+    c.box.resize(g.numFaces());
+    c.curve.resize(g.numEdges());
+    c.curveMade.assign(g.numEdges(), 0);
+    for (int i = begin; i < end; ++i) {
+      double d = 0, tol = kFloor * diag;
+      bool inside = true;
+      if (!nodeOffset(g, m, i, c, d, tol, inside)) continue;
+      ++c.checked;
+      if (chord[i][0] >= 0 && !(d <= tol && inside)) {  // a straightened mid-node sits on its chord
+        const double dc = dist(m.nodes[i], 0.5 * (m.nodes[chord[i][0]] + m.nodes[chord[i][1]]));
+        if (dc <= kFloor * diag) d = 0, inside = true;
+      }
+      if (!(d <= tol) || !inside) {
+        ++c.off;
+        if (m.nodeKind[i] != NodeKind::Vertex) (m.nodeKind[i] == NodeKind::Face ? c.faces : c.edges).push_back(m.nodeEntity[i]);
+      }
+      c.worst = std::isfinite(d) ? std::max(c.worst, d) : d;
+    }
+  });
+  std::vector<int> faces, edges;
+  for (const NodeChunk& c : parts) {
+    r.nodesChecked += c.checked;
+    r.nodesOffCad += c.off;
+    r.worstNodeOffset = std::isfinite(c.worst) ? std::max(r.worstNodeOffset, c.worst) : c.worst;
+    faces.insert(faces.end(), c.faces.begin(), c.faces.end());
+    edges.insert(edges.end(), c.edges.begin(), c.edges.end());
+  }
+  if (r.nodesOffCad)
+    addFinding(r, "nodes off their CAD entity (farther than its tolerance, or outside its parameter range)", r.nodesOffCad,
+               faces, edges);
 }
 
 }  // namespace

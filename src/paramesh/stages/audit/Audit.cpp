@@ -11,6 +11,7 @@ namespace paramesh {
 
 AuditInput MeshContext::auditInput() const {
   AuditInput in{model, mesh, triUv, quadUv, {}};
+  in.threads = threads;
   in.copyFace.assign(model.numFaces(), 0);
   for (size_t f = 0; f < faceStage.copyOf.size() && f < in.copyFace.size(); ++f) in.copyFace[f] = faceStage.copyOf[f] >= 0;
   return in;
@@ -18,7 +19,9 @@ AuditInput MeshContext::auditInput() const {
 
 void MeshContext::repairSurface() {
   Timer t;
-  const AuditResult first = auditMesh(auditInput());
+  AuditInput in = auditInput();
+  in.nodes = false;  // the repair mends elements only
+  const AuditResult first = auditMesh(in);
   if (!first.badElements.empty()) {
     repairedNodes = repairBadElements(model, mesh, triUv, quadUv, first.badElements);
     if (repairedNodes) {
