@@ -6,6 +6,7 @@
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepTools.hxx>
+#include <BRepTools_ShapeSet.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
@@ -51,6 +52,7 @@
 #include <sstream>
 #include <string>
 
+#include "paramesh/geom/occ/BrepPrecheck.hpp"
 #include "paramesh/util/Error.hpp"
 
 namespace paramesh {
@@ -395,58 +397,12 @@ class SilenceOcc {
   std::streambuf* coutBuf_ = nullptr;
 };
 
-/// True when text starts like an OpenCASCADE BREP ("DBRep_DrawableShape" or "CASCADE Topology").
-bool looksLikeBrep(const std::string& head) {
-  return head.find("CASCADE Topology V") != std::string::npos;
-}
-
-/// What is structurally wrong with a BREP text, or "" when nothing was found. OpenCASCADE's BREP
-/// reader does not stop at the end of a truncated text: it can loop on its failed stream for
-/// minutes (a wing.brep cut inside its TShapes section spent over 60 s allocating p-curves), so a
-/// text is checked first for its sections, in order, for as many shape records (each closed by
-/// '*') as its TShapes header announces, and for the root shape reference after them.
-std::string brepStructureProblem(const std::string& text) {
-  static const char* const kSections[] = {"Locations",  "Curve2ds", "Curves",         "Polygon3D",
-                                          "PolygonOnTriangulations", "Surfaces", "Triangulations",
-                                          "TShapes"};
-  size_t at = 0;
-  long long shapes = -1;
-  for (const char* name : kSections) {
-    const std::string key = std::string("\n") + name + " ";
-    const size_t k = text.find(key, at);
-    if (k == std::string::npos)
-      return std::string("no '") + name + "' section where one belongs (the text is cut short or damaged)";
-    at = k + key.size();
-    size_t e = at;
-    while (e < text.size() && std::isdigit((unsigned char)text[e])) ++e;
-    if (e == at || e - at > 12) return std::string("the '") + name + "' section has no valid count";
-    if (std::string(name) == "TShapes") shapes = std::stoll(text.substr(at, e - at));
-    at = e;
-  }
-  // shape records: each ends with a '*' token; then the root reference, e.g. "+1 0"
-  long long stars = 0;
-  size_t lastStar = std::string::npos;
-  for (size_t i = at; i < text.size(); ++i) {
-    if (text[i] == '*' && std::isspace((unsigned char)text[i - 1]) &&
-        (i + 1 == text.size() || std::isspace((unsigned char)text[i + 1]))) {
-      ++stars;
-      lastStar = i;
-    }
-  }
-  if (stars < shapes)
-    return "the TShapes section holds " + std::to_string(stars) + " of its " + std::to_string(shapes) +
-           " shape records (the text is cut short)";
-  std::istringstream tail(lastStar == std::string::npos ? text.substr(at) : text.substr(lastStar + 1));
-  std::string ref, loc;
-  if (!(tail >> ref >> loc) || ref.size() < 2 || (ref[0] != '+' && ref[0] != '-') ||
-      !std::all_of(ref.begin() + 1, ref.end(), [](char c) { return std::isdigit((unsigned char)c); }) ||
-      !std::all_of(loc.begin(), loc.end(), [](char c) { return std::isdigit((unsigned char)c); }))
-    return "no root shape reference after the TShapes section (the text is cut short)";
-  return "";
-}
+/// True when the text has OpenCASCADE's BREP version line somewhere (the reader skips the lines
+/// before it, e.g. DRAW's "DBRep_DrawableShape"); brepStructureProblem() checks it exactly.
+bool looksLikeBrep(const std::string& text) { return text.find("CASCADE Topology V") != std::string::npos; }
 
 TopoDS_Shape readBrepText(const std::string& text, const std::string& what) {
-  const std::string problem = brepStructureProblem(text);
+  const std::string problem = detail::brepStructureProblem(text);
   if (!problem.empty()) throw InputError(what + " is not a complete BREP text: " + problem);
   // OpenCASCADE's reader goes on after a value fails to parse (a damaged number, a line too
   // many or too few) and can loop on the failed stream for ever (fuzz cases of wing.brep and
@@ -455,8 +411,9 @@ TopoDS_Shape readBrepText(const std::string& text, const std::string& what) {
   in.exceptions(std::ios::failbit | std::ios::badbit);
   TopoDS_Shape shape;
   BRep_Builder b;
+  BRepTools_ShapeSet set(b);  // BRepTools::Read, in its two steps
   try {
-    BRepTools::Read(shape, in, b);
+    set.Read(in);
   } catch (const std::ios_base::failure&) {
     const std::streamoff at = in.rdbuf()->pubseekoff(0, std::ios::cur, std::ios::in);
     const size_t pos = at < 0 ? text.size() : std::min(text.size(), (size_t)at);
@@ -464,6 +421,14 @@ TopoDS_Shape readBrepText(const std::string& text, const std::string& what) {
     throw InputError(what + " is not a readable BREP text: a value could not be read at line " +
                      std::to_string(line));
   }
+  // the root reference as OpenCASCADE reads it: a location index it cannot read is the identity
+  // (the pre-check made sure the reference itself is there)
+  in.exceptions(std::ios::goodbit);
+  set.Read(shape, in);
+  // an internal or external root (DRAW writes "i1 0") would pass its orientation on to every face
+  // and edge (TopAbs::Compose), leaving no wire with a direction: the model as a whole has none
+  if (shape.Orientation() == TopAbs_INTERNAL || shape.Orientation() == TopAbs_EXTERNAL)
+    shape.Orientation(TopAbs_FORWARD);
   return shape;
 }
 
@@ -589,7 +554,7 @@ TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext,
   } else {
     std::ifstream in(path, std::ios::binary);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!looksLikeBrep(text.substr(0, 512)))
+    if (!looksLikeBrep(text))
       throw InputError("'" + path + "' is not an OpenCASCADE BREP file (no 'CASCADE Topology' header)");
     shape = readBrepText(text, "'" + path + "'");
   }
@@ -635,7 +600,7 @@ std::unique_ptr<IGeometryModel> loadOccModel(const std::string& path) {
 
 std::unique_ptr<IGeometryModel> loadOccModelFromBrepString(const std::string& brep) {
   TopoDS_Shape shape;
-  if (!looksLikeBrep(brep.substr(0, 512)))
+  if (!looksLikeBrep(brep))
     throw InputError("not a BREP string (no 'CASCADE Topology' header)");
   SilenceOcc silence;
   try {
