@@ -27,7 +27,7 @@ const char* kUsage =
     "  paramesh info MODEL                                  list faces and edges\n"
     "\n"
     "mesh options:\n"
-    "  --size H              target element size (default: bounding-box diagonal / 50)\n"
+    "  --size H              target element size, > 0 (default: bounding-box diagonal / 50)\n"
     "  --min-size H          smallest size any size source may ask for (default: size/100;\n"
     "                        size/1000 with --curvature-angle or --max-deviation); when given,\n"
     "                        the curvature refinement makes no edge below it either\n"
@@ -78,7 +78,14 @@ double parseNumber(const std::string& opt, const char* s) {
   char* end = nullptr;
   errno = 0;
   double v = std::strtod(s, &end);
-  if (!s[0] || *end || errno) die(1, "option " + opt + " expects a number, got '" + s + "'");
+  // nan would read as a length left out (kNotGiven), inf is no size either
+  if (!s[0] || *end || errno || !std::isfinite(v)) die(1, "option " + opt + " expects a number, got '" + s + "'");
+  return v;
+}
+/// A boundary-layer value that is derived when left out: a given one must be > 0.
+double parsePositive(const std::string& opt, const char* s, const char* leftOut) {
+  const double v = parseNumber(opt, s);
+  if (!(v > 0)) die(1, "option " + opt + " must be > 0 (got " + std::string(s) + "); leave it out " + leftOut);
   return v;
 }
 int parseInt(const std::string& opt, const char* s) {
@@ -160,10 +167,20 @@ int cmdMesh(int argc, char** argv) {
       std::string tok;
       while (std::getline(ss, tok, ',')) bl.edges.push_back(parseInt(a, tok.c_str()));
       haveBl = true;
-    } else if (a == "--bl-first-height") { bl.firstHeight = parseNumber(a, next()); haveBl = true; }
-    else if (a == "--bl-growth") { bl.growth = parseNumber(a, next()); haveBl = true; }
-    else if (a == "--bl-layers") { bl.layers = parseInt(a, next()); haveBl = true; }
-    else if (a == "--bl-thickness") { bl.thickness = parseNumber(a, next()); haveBl = true; }
+    } else if (a == "--bl-first-height") {
+      bl.firstHeight = parsePositive(a, next(), "with --bl-auto to have it derived from the size");
+      haveBl = true;
+    } else if (a == "--bl-growth") { bl.growth = parseNumber(a, next()); haveBl = true; }
+    else if (a == "--bl-layers") {
+      const char* v = next();
+      bl.layers = parseInt(a, v);
+      if (bl.layers <= 0)
+        die(1, "option --bl-layers must be > 0 (got " + std::string(v) + "); leave it out to derive it from --bl-thickness");
+      haveBl = true;
+    } else if (a == "--bl-thickness") {
+      bl.thickness = parsePositive(a, next(), "to derive it from --bl-layers");
+      haveBl = true;
+    }
     else if (a == "--bl-max-aspect") { bl.maxAspect = parseNumber(a, next()); haveBl = true; }
     else if (a == "--bl-quads") { bl.quads = true; }
     else if (a == "--bl-auto") { bl.autoEdges = true; haveBl = true; }
@@ -217,6 +234,18 @@ int cmdMesh(int argc, char** argv) {
   }
   if (model.empty()) die(1, "mesh: missing MODEL");
   if (outs.empty() && report.empty() && png.empty()) die(1, "mesh: give an output with -o OUT");
+  {
+    // the parameters checked before the model is read: a typo is refused at once (an automatic
+    // layer's first height, derived below from the model, stands in as 1)
+    MeshParams early = p;
+    for (auto& b : early.boundaryLayers)
+      if (b.autoEdges && b.firstHeight == 0) b.firstHeight = 1;
+    try {
+      early.validate();
+    } catch (const Error& e) {
+      die(1, e.what());
+    }
+  }
   std::unique_ptr<IGeometryModel> geo;
   try {
     OccReaderSignalGuard guard;  // a reader crashing on a damaged file: an error, not a crash
@@ -227,7 +256,7 @@ int cmdMesh(int argc, char** argv) {
   for (auto& b : p.boundaryLayers)
     if (b.autoEdges && b.firstHeight == 0) {
       // the last of N rows about as tall as the surface size (an isotropic hand-off)
-      const double size = p.size > 0 ? p.size : geo->boundingBox().diagonal() / 50.0;
+      const double size = isGiven(p.size) ? p.size : geo->boundingBox().diagonal() / 50.0;
       const int n = b.layers > 0 ? b.layers : 20;
       b.firstHeight = size / std::pow(b.growth, n - 1);
     }

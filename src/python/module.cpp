@@ -8,6 +8,8 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cmath>
+#include <optional>
 #include <cstring>
 #include <memory>
 
@@ -167,6 +169,23 @@ void bindErrors(py::module_& mod) {
   });
 }
 
+/// An optional length of MeshParams as a Python property: None when left out (kNotGiven).
+/// freecad/paramesh/core/params.py still sends 0.0 for a length left out, so 0 is taken as left
+/// out here too until it sends None; NaN (which is how C++ says "left out") is refused.
+template <double MeshParams::*Field>
+void optionalLength(py::class_<MeshParams>& c, const char* name) {
+  c.def_property(
+      name,
+      [](const MeshParams& p) -> std::optional<double> {
+        if (!isGiven(p.*Field)) return std::nullopt;
+        return p.*Field;
+      },
+      [name](MeshParams& p, std::optional<double> v) {
+        if (v && std::isnan(*v)) throw ParameterError(std::string(name) + " must be a number (got nan)");
+        p.*Field = !v || *v == 0 ? kNotGiven : *v;
+      });
+}
+
 /// MeshParams and its parts (LocalSize, BoundaryLayerSpec).
 void bindParams(py::module_& mod) {
   py::class_<LocalSize> ls(mod, "LocalSize");
@@ -190,11 +209,12 @@ void bindParams(py::module_& mod) {
       .def_readwrite("quads", &BoundaryLayerSpec::quads)
       .def_readwrite("auto_edges", &BoundaryLayerSpec::autoEdges);
 
-  py::class_<MeshParams>(mod, "MeshParams")
-      .def(py::init<>())
-      .def_readwrite("size", &MeshParams::size)
-      .def_readwrite("min_size", &MeshParams::minSize)
-      .def_readwrite("max_size", &MeshParams::maxSize)
+  py::class_<MeshParams> mp(mod, "MeshParams");
+  optionalLength<&MeshParams::size>(mp, "size");
+  optionalLength<&MeshParams::minSize>(mp, "min_size");
+  optionalLength<&MeshParams::maxSize>(mp, "max_size");
+  optionalLength<&MeshParams::volumeMaxSize>(mp, "volume_max_size");
+  mp.def(py::init<>())
       .def_readwrite("curvature_angle", &MeshParams::curvatureAngle)
       .def_readwrite("max_deviation", &MeshParams::maxDeviation)
       .def_readwrite("grading", &MeshParams::grading)
@@ -207,7 +227,6 @@ void bindParams(py::module_& mod) {
       .def_readwrite("nearest_face_check", &MeshParams::nearestFaceCheck)
       .def_readwrite("nearest_face_budget", &MeshParams::nearestFaceBudget)
       .def_readwrite("volume", &MeshParams::volume)
-      .def_readwrite("volume_max_size", &MeshParams::volumeMaxSize)
       .def_readwrite("volume_optimize", &MeshParams::volumeOptimize)
       .def_readwrite("local_sizes", &MeshParams::localSizes)
       .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)

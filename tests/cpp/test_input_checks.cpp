@@ -2,7 +2,8 @@
 /// @file test_input_checks.cpp
 /// The input checks (docs/robustness.md, "Input checks"): the BREP pre-check accepts exactly what
 /// OpenCASCADE's own reader reads (every model, every orientation code and location, the header
-/// and section variants) and refuses cut texts at once.
+/// and section variants) and refuses cut texts at once; a given 0 for a size is refused while a
+/// size left out is the default.
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_Transform.hxx>
@@ -310,4 +311,135 @@ TEST(InputChecks, BrepPrecheckRefusesCutTextsAtOnce) {
   }
   std::printf("%d cut texts refused, the slowest pre-check %.2f ms\n", cuts, slowest * 1e3);
   EXPECT_LT(slowest, 0.5);  // the largest, bottle.brep (401 kB): measured 12.5 ms
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sizes: a given 0 is refused, a size left out is the default
+
+namespace {
+
+std::string parameterError(const MeshParams& p) {
+  try {
+    p.validate();
+  } catch (const ParameterError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::unique_ptr<IGeometryModel> box() { return loadOccModelFromBrepString(writeBrep(BRepPrimAPI_MakeBox(10, 20, 30).Shape(), kVersions[0])); }
+
+}  // namespace
+
+TEST(InputChecks, GivenZeroSizesAreRefusedLeftOutOnesAreDefaults) {
+  EXPECT_EQ(parameterError(MeshParams{}), "");
+  struct Length {
+    const char* name;
+    double MeshParams::*field;
+  };
+  for (const Length& l : {Length{"size", &MeshParams::size}, Length{"min_size", &MeshParams::minSize},
+                          Length{"max_size", &MeshParams::maxSize}, Length{"volume_max_size", &MeshParams::volumeMaxSize}})
+    for (double v : {0.0, -1.0, std::numeric_limits<double>::infinity()}) {
+      MeshParams p;
+      p.*l.field = v;
+      const std::string e = parameterError(p);
+      EXPECT_EQ(e.rfind(std::string(l.name) + " must be a positive length", 0), 0u) << e;
+      EXPECT_NE(e.find("leave it out for the default"), std::string::npos) << e;
+      p.*l.field = kNotGiven;
+      EXPECT_EQ(parameterError(p), "");
+    }
+  // the parameters JSON: a 0 given is refused, the key left out is the default
+  for (const char* key : {"size", "min_size", "max_size", "volume_max_size"}) {
+    MeshParams p;
+    applyParamsJson(std::string("{\"") + key + "\": 0}", p);
+    EXPECT_NE(parameterError(p).find(std::string(key) + " must be a positive length (got 0)"), std::string::npos);
+  }
+  MeshParams p;
+  EXPECT_THROW(applyParamsJson("{\"size\": 1e999}", p), ParameterError);  // inf
+  for (const char* bl : {"{\"edges\": [1], \"first_height\": 0.1, \"layers\": 0}",
+                         "{\"edges\": [1], \"first_height\": 0.1, \"thickness\": 0}"})
+    try {
+      applyParamsJson(std::string("{\"boundary_layers\": [") + bl + "]}", p);
+      ADD_FAILURE() << bl;
+    } catch (const ParameterError& e) {
+      EXPECT_NE(std::string(e.what()).find("must be > 0 (got 0); leave it out to derive it"), std::string::npos) << e.what();
+    }
+  // the run: left out, size = diagonal / 50, max_size = size, volume_max_size = max_size
+  auto g = box();
+  Mesher m(*g, MeshParams{});
+  const Report r = m.run().report;
+  EXPECT_NEAR(r.size, g->boundingBox().diagonal() / 50, 1e-12);
+  EXPECT_EQ(r.maxSize, r.size);
+  EXPECT_EQ(r.volumeMaxSize, r.maxSize);
+  EXPECT_NEAR(r.minSize, r.size / 100, 1e-12);
+  MeshParams zero;
+  zero.size = 0;
+  EXPECT_THROW(Mesher(*g, zero).run(), ParameterError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The CLI: exit codes and messages (the paramesh binary of this build, next to this test)
+
+namespace {
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout and stderr
+};
+CliRun cli(const std::string& args) {
+  const fs::path bin = fs::read_symlink("/proc/self/exe").parent_path() / "paramesh";
+  CliRun r;
+  FILE* f = ::popen((bin.string() + " " + args + " 2>&1").c_str(), "r");
+  if (!f) return r;
+  char buf[4096];
+  for (size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) r.out.append(buf, n);
+  const int st = ::pclose(f);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+}  // namespace
+
+TEST(InputChecks, CliRefusesGivenZeros) {
+  const std::string wing = (dataDir() / "wing.brep").string();
+  const std::string out = (fs::temp_directory_path() / ("paramesh_input_checks_" + std::to_string(::getpid()) + ".msh")).string();
+  const std::string mesh = "mesh " + wing + " -o " + out + " --quiet ";
+  struct Case {
+    std::string args;
+    int code;
+    std::string message;  // the whole stderr line after "paramesh: ", measured
+  };
+  const std::string sizeDefault = "leave it out for the default (the bounding-box diagonal / 50)";
+  std::vector<Case> cases = {
+      {"", 0, ""},
+      {"--size -2", 1, "size must be a positive length (got -2); " + sizeDefault},
+      {"--size nan", 1, "option --size expects a number, got 'nan'"},
+  };
+  // each optional length given as 0, and each boundary-layer value that is derived when left out
+  const std::pair<const char*, std::string> zeros[] = {
+      {"--size", "size must be a positive length (got 0); " + sizeDefault},
+      {"--min-size", "min_size must be a positive length (got 0); leave it out for the default (size / 100, or size "
+                     "/ 1000 with a curvature angle or a max deviation)"},
+      {"--max-size", "max_size must be a positive length (got 0); leave it out for the default (size)"},
+      {"--volume-max-size", "volume_max_size must be a positive length (got 0); leave it out for the default (max_size)"},
+      {"--bl-edges 1 --bl-layers 3 --bl-first-height",
+       "option --bl-first-height must be > 0 (got 0); leave it out with --bl-auto to have it derived from the size"},
+      {"--bl-edges 1 --bl-first-height 0.01 --bl-layers",
+       "option --bl-layers must be > 0 (got 0); leave it out to derive it from --bl-thickness"},
+      {"--bl-edges 1 --bl-first-height 0.01 --bl-thickness",
+       "option --bl-thickness must be > 0 (got 0); leave it out to derive it from --bl-layers"}};
+  for (const auto& [option, message] : zeros) cases.push_back({std::string(option) + " 0", 1, message});
+  for (const Case& c : cases) {
+    const CliRun r = cli(mesh + c.args);
+    EXPECT_EQ(r.code, c.code) << c.args << ": " << r.out;
+    EXPECT_EQ(r.out, c.message.empty() ? "" : "paramesh: " + c.message + "\n") << c.args;
+  }
+  // the parameters JSON: the same refusal with the model never read (a missing file: exit 1, not 2)
+  const std::string json = out + ".json";
+  std::ofstream(json) << "{\"size\": 0}";
+  const CliRun r = cli("mesh /nonexistent/model.step -o " + out + " --params " + json);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(r.out.rfind("paramesh: size must be a positive length (got 0)", 0), 0u) << r.out;
+  fs::remove(json);
+  fs::remove(out);
 }

@@ -15,15 +15,22 @@ std::string num(double x) {
   s << x;
   return s.str();
 }
+
+/// An optional length, when given, is a positive finite number (0 is not "the default": leaving
+/// the length out is).
+void checkLength(double v, const char* name, const char* byDefault) {
+  if (isGiven(v) && !(finite(v) && v > 0))
+    throw ParameterError(std::string(name) + " must be a positive length (got " + num(v) + "); leave it out for " +
+                         byDefault);
+}
 }  // namespace
 
 void MeshParams::validate() const {
-  if (!finite(size) || size < 0) throw ParameterError("size must be a positive length (got " + num(size) + ")");
-  if (!finite(minSize) || minSize < 0)
-    throw ParameterError("min_size must be >= 0 (got " + num(minSize) + ")");
-  if (!finite(maxSize) || maxSize < 0)
-    throw ParameterError("max_size must be >= 0 (got " + num(maxSize) + ")");
-  if (minSize > 0 && maxSize > 0 && minSize > maxSize)
+  checkLength(size, "size", "the default (the bounding-box diagonal / 50)");
+  checkLength(minSize, "min_size", "the default (size / 100, or size / 1000 with a curvature angle or a max deviation)");
+  checkLength(maxSize, "max_size", "the default (size)");
+  checkLength(volumeMaxSize, "volume_max_size", "the default (max_size)");
+  if (isGiven(minSize) && isGiven(maxSize) && minSize > maxSize)
     throw ParameterError("min_size (" + num(minSize) + ") is larger than max_size (" + num(maxSize) + ")");
   if (!finite(curvatureAngle) || curvatureAngle < 0 || curvatureAngle >= 180)
     throw ParameterError("curvature_angle must be in [0, 180) degrees (got " + num(curvatureAngle) + ")");
@@ -42,8 +49,6 @@ void MeshParams::validate() const {
                          num(nearestFaceBudget) + ")");
   if (order != 1 && order != 2) throw ParameterError("order must be 1 or 2 (got " + std::to_string(order) + ")");
   checkedMaxElements((double)maxElements);
-  if (!finite(volumeMaxSize) || volumeMaxSize < 0)
-    throw ParameterError("volume_max_size must be a positive length (got " + num(volumeMaxSize) + ")");
   if (volumeOptimize < 0 || volumeOptimize > 10)
     throw ParameterError("volume_optimize must be in [0, 10] passes (got " + std::to_string(volumeOptimize) + ")");
   if (volume && quads)

@@ -1,12 +1,22 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file Params.hpp
 /// Meshing parameters: one plain struct passed by value, validated once at entry.
-/// Lengths are in model units; 0 means "derived" where stated.
+/// Lengths are in model units. The optional lengths (size, min_size, max_size, volume_max_size)
+/// start as kNotGiven: the setup stage puts their defaults in their place; a number given, 0
+/// included, is checked as given.
 #pragma once
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace paramesh {
+
+/// The value of an optional length the caller left out. A NaN: no reader passes one on as a
+/// value (the CLI, the parameters JSON and the Python binding refuse NaN).
+inline constexpr double kNotGiven = std::numeric_limits<double>::quiet_NaN();
+/// An optional length was given (is not kNotGiven).
+inline bool isGiven(double v) { return !std::isnan(v); }
 
 /// A local size on CAD entities ("Face3=0.5" on the command line).
 struct LocalSize {
@@ -30,9 +40,9 @@ struct BoundaryLayerSpec {
 
 /// Parameters of a meshing run. Defaults give a uniform-size mesh at diagonal/50.
 struct MeshParams {
-  double size = 0;            ///< target element edge length; 0: bounding-box diagonal / 50
-  double minSize = 0;         ///< lower clamp of every size source; 0: size / 100
-  double maxSize = 0;         ///< upper clamp; 0: size
+  double size = kNotGiven;     ///< target element edge length (> 0); not given: bounding-box diagonal / 50
+  double minSize = kNotGiven;  ///< lower clamp of every size source (> 0); not given: size / 100 (/ 1000 with curvature)
+  double maxSize = kNotGiven;  ///< upper clamp (> 0); not given: size
   double curvatureAngle = 0;  ///< degrees an element may subtend on curved faces/edges; 0: off
   double maxDeviation = 0;    ///< max chordal deviation from the CAD as a fraction of size (refines small radii); 0: off
   double grading = 1.3;       ///< max size ratio between neighbouring elements (> 1)
@@ -59,9 +69,9 @@ struct MeshParams {
   long maxElements = 50000000;
   /// Fill every closed solid with tetrahedra bounded by the surface triangles (stages/volume).
   bool volume = false;
-  /// Largest tetrahedron edge inside the solids; 0: max_size (the interior grows from the surface
-  /// sizes at the grading up to it).
-  double volumeMaxSize = 0;
+  /// Largest tetrahedron edge inside the solids (> 0); not given: max_size (the interior grows
+  /// from the surface sizes at the grading up to it).
+  double volumeMaxSize = kNotGiven;
   /// nglib's 3D optimisation passes after the fill (swaps, smoothing); each costs about as much
   /// as the fill itself (docs/tuning/volume.md).
   int volumeOptimize = 1;

@@ -1,22 +1,34 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "paramesh/pipeline/ParamsJson.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "paramesh/io/Json.hpp"
 #include "paramesh/util/Error.hpp"
+#include "paramesh/util/Format.hpp"
 
 namespace paramesh {
 
 namespace {
 
 double num(const Json& j, const std::string& key) {
+  double v = 0;
   try {
-    return j.number();
+    v = j.number();
   } catch (const Error&) {
     throw ParameterError("parameter '" + key + "' must be a number");
   }
+  // 1e999 reads as inf; NaN would read as a length left out (kNotGiven)
+  if (!std::isfinite(v)) throw ParameterError("parameter '" + key + "' must be a finite number");
+  return v;
+}
+/// A boundary-layer value that is derived when left out: a given one must be > 0.
+double positive(double v, const std::string& key, const char* leftOut) {
+  if (!(v > 0))
+    throw ParameterError("parameter '" + key + "' must be > 0 (got " + fmt(v) + "); leave it out " + leftOut);
+  return v;
 }
 int integer(const Json& j, const std::string& key) {
   const double v = num(j, key);
@@ -82,8 +94,8 @@ BoundaryLayerSpec boundaryLayer(const Json& j, const std::string& key) {
     if (k == "edges") b.edges = ints(v, kk);
     else if (k == "first_height") b.firstHeight = num(v, kk);
     else if (k == "growth") b.growth = num(v, kk);
-    else if (k == "layers") b.layers = integer(v, kk);
-    else if (k == "thickness") b.thickness = num(v, kk);
+    else if (k == "layers") b.layers = (int)positive(integer(v, kk), kk, "to derive it from thickness");
+    else if (k == "thickness") b.thickness = positive(num(v, kk), kk, "to derive it from layers");
     else if (k == "max_aspect") b.maxAspect = num(v, kk);
     else if (k == "quads") b.quads = boolean(v, kk);
     else throw ParameterError(key + ": unknown key '" + k + "'");

@@ -27,13 +27,14 @@ void MeshContext::resolveParams() {
         std::fabs(box.hi[i]) > kMaxCoordinate)
       throw InputError("the model's bounding box reaches " + fmt(std::max(std::fabs(box.lo[i]), std::fabs(box.hi[i]))) +
                        " (beyond " + fmt(kMaxCoordinate) + " model units): its geometry is damaged");
-  if (p.size == 0) p.size = diag / 50.0;
-  if (p.maxSize == 0) p.maxSize = p.size;
+  if (!isGiven(p.size)) p.size = diag / 50.0;
+  if (!isGiven(p.maxSize)) p.maxSize = p.size;
   // curvature sizing (for an angle or a deviation) resolves radii down to size/1000 unless told
   // otherwise (fillets, blade tips and leading edges are far smaller than the global size);
   // other sources stop at 1/100
-  minSizeGiven = p.minSize > 0;
-  if (p.minSize == 0) p.minSize = std::min(p.size, p.maxSize) / (p.curvatureAngle > 0 || p.maxDeviation > 0 ? 1000.0 : 100.0);
+  minSizeGiven = isGiven(p.minSize);
+  if (!minSizeGiven) p.minSize = std::min(p.size, p.maxSize) / (p.curvatureAngle > 0 || p.maxDeviation > 0 ? 1000.0 : 100.0);
+  if (!isGiven(p.volumeMaxSize)) p.volumeMaxSize = p.maxSize;
   if (p.minSize > p.maxSize) throw ParameterError("min_size (" + fmt(p.minSize) + ") is larger than max_size (" + fmt(p.maxSize) + ")");
   if (p.size < diag * 1e-6)
     throw ParameterError("size " + fmt(p.size) + " is below 1e-6 of the model diagonal (" + fmt(diag) +
@@ -63,7 +64,7 @@ void MeshContext::resolveParams() {
   report.maxDeviation = p.maxDeviation;
   report.grading = p.grading;
   report.volume = p.volume;
-  report.volumeMaxSize = p.volumeMaxSize > 0 ? p.volumeMaxSize : p.maxSize;
+  report.volumeMaxSize = p.volumeMaxSize;
   report.volumeOptimize = p.volumeOptimize;
   report.threads = threads;
   report.source = model.source();
