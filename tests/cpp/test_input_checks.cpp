@@ -3,7 +3,8 @@
 /// The input checks (docs/robustness.md, "Input checks"): the BREP pre-check accepts exactly what
 /// OpenCASCADE's own reader reads (every model, every orientation code and location, the header
 /// and section variants) and refuses cut texts at once; a given 0 for a size is refused while a
-/// size left out is the default.
+/// size left out is the default; a boundary layer taller than the model is refused, and one that
+/// grows no element makes the run degraded (CLI exit 3).
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_Transform.hxx>
@@ -378,6 +379,67 @@ TEST(InputChecks, GivenZeroSizesAreRefusedLeftOutOnesAreDefaults) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Boundary layers: taller than the model is refused, none grown makes the run degraded
+
+namespace {
+
+BoundaryLayerSpec layer(std::vector<int> edges, double h0, int layers, double thickness = 0) {
+  BoundaryLayerSpec b;
+  b.edges = std::move(edges);
+  b.firstHeight = h0;
+  b.layers = layers;
+  b.thickness = thickness;
+  return b;
+}
+
+std::string runError(const IGeometryModel& g, const MeshParams& p) {
+  try {
+    Mesher(g, p).run();
+  } catch (const ParameterError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(InputChecks, BoundaryLayerTallerThanTheModelIsRefused) {
+  auto g = box();  // 10 x 20 x 30: diagonal 37.4166 (the bounding box, tolerance included)
+  MeshParams p;
+  p.boundaryLayers = {layer({1}, 1, 3), layer({3, 5}, 500, 3)};
+  EXPECT_EQ(runError(*g, p), "boundary layer #2 (edges 3,5): first height 500 exceeds the model's diagonal 37.4166");
+  p.boundaryLayers = {layer({2}, 0.01, 40)};  // growth 1.2: 0.01 (1.2^40 - 1) / 0.2 = 73.44
+  EXPECT_EQ(runError(*g, p), "boundary layer #1 (edge 2): total thickness 73.4386 (40 layers from first height 0.01, "
+                             "growth 1.2) exceeds the model's diagonal 37.4166");
+  p.boundaryLayers = {layer({2}, 0.01, 0, 40)};
+  EXPECT_EQ(runError(*g, p), "boundary layer #1 (edge 2): total thickness 40 exceeds the model's diagonal 37.4166");
+  p.boundaryLayers = {layer({}, 50, 1)};
+  p.boundaryLayers[0].autoEdges = true;
+  EXPECT_EQ(runError(*g, p).rfind("boundary layer #1 (auto edges): first height 50", 0), 0u);
+  // just below the diagonal: no such error (whatever the layer then grows)
+  p.boundaryLayers = {layer({2}, 0.01, 0, 37)};
+  EXPECT_EQ(runError(*g, p), "");
+}
+
+TEST(InputChecks, LayerThatGrowsNoElementMakesTheRunDegraded) {
+  auto g = loadOccModel((dataDir() / "wing.brep").string());  // diagonal 5.03
+  MeshParams p;
+  p.boundaryLayers = {layer({1}, 2, 1)};  // 68 columns, each stopped before its first row
+  Report r = Mesher(*g, p).run().report;
+  ASSERT_EQ(r.boundaryLayers.size(), 1u);
+  EXPECT_EQ(r.boundaryLayers[0].elements, 0);
+  EXPECT_EQ(r.status, RunStatus::Degraded);
+  EXPECT_NE(r.message.find("meshed 4 faces; boundary layer 1 (Edge1, Edge7) produced no element on any face (68 columns"),
+            std::string::npos) << r.message;
+  for (const FaceReport& f : r.faces) EXPECT_TRUE(f.ok);  // every face meshed: degraded by the layer alone
+  // the same edge with a thin first row grows, and the run is ok
+  p.boundaryLayers = {layer({1}, 0.01, 3)};
+  r = Mesher(*g, p).run().report;
+  EXPECT_GT(r.boundaryLayers[0].elements, 0);
+  EXPECT_EQ(r.status, RunStatus::Ok) << r.message;
+}
+
+// ---------------------------------------------------------------------------------------------
 // The CLI: exit codes and messages (the paramesh binary of this build, next to this test)
 
 namespace {
@@ -400,7 +462,7 @@ CliRun cli(const std::string& args) {
 
 }  // namespace
 
-TEST(InputChecks, CliRefusesGivenZeros) {
+TEST(InputChecks, CliRefusesGivenZerosAndReportsEmptyLayers) {
   const std::string wing = (dataDir() / "wing.brep").string();
   const std::string out = (fs::temp_directory_path() / ("paramesh_input_checks_" + std::to_string(::getpid()) + ".msh")).string();
   const std::string mesh = "mesh " + wing + " -o " + out + " --quiet ";
@@ -414,6 +476,11 @@ TEST(InputChecks, CliRefusesGivenZeros) {
       {"", 0, ""},
       {"--size -2", 1, "size must be a positive length (got -2); " + sizeDefault},
       {"--size nan", 1, "option --size expects a number, got 'nan'"},
+      {"--bl-edges 3,5 --bl-first-height 500 --bl-layers 3", 1,
+       "boundary layer #1 (edges 3,5): first height 500 exceeds the model's diagonal 5.03083"},
+      {"--bl-edges 1 --bl-first-height 2 --bl-layers 1", 3,
+       "meshed 4 faces; boundary layer 1 (Edge1, Edge7) produced no element on any face (68 columns; stopped: 64 "
+       "at the aspect limit, 4 at an edge end or a corner)"},
   };
   // each optional length given as 0, and each boundary-layer value that is derived when left out
   const std::pair<const char*, std::string> zeros[] = {

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 """The input checks through the Python API (docs/robustness.md, "Input checks"): the native
-parameters' optional lengths are None when left out, and a BREP text whose root reference is
-internal or external (OpenCASCADE's DRAW writes "i1 0") is meshed. The C++ side is
-tests/cpp/test_input_checks.cpp."""
+parameters' optional lengths are None when left out, a layer taller than the model is a
+ParameterError naming the spec, a layer that grows no element makes the run degraded, and a
+BREP text whose root reference is internal or external (OpenCASCADE's DRAW writes "i1 0") is
+meshed. The C++ side is tests/cpp/test_input_checks.cpp."""
 import math
 import os
 
@@ -48,6 +49,24 @@ def test_sizes_left_out_are_the_defaults():
 def test_size_zero_is_refused_through_the_wrapper():
     with pytest.raises(ValueError, match="size"):  # pm.ParameterError is a ValueError too
         pm.mesh_file(WING, size=0)
+
+
+def test_layer_taller_than_the_model_is_refused():
+    with pytest.raises(pm.ParameterError, match=r"^boundary layer #1 \(edges 3,5\): first height 500 exceeds "
+                                                r"the model's diagonal 5\.03083$"):
+        pm.mesh_file(WING, boundary_layers=[dict(edges=[3, 5], first_height=500, layers=3)])
+    with pytest.raises(pm.ParameterError, match=r"^boundary layer #1 \(edge 2\): total thickness 6 exceeds"):
+        pm.mesh_file(WING, boundary_layers=[dict(edges=[2], first_height=0.01, thickness=6)])
+
+
+def test_layer_that_grows_nowhere_makes_the_run_degraded():
+    r = pm.mesh_file(WING, boundary_layers=[dict(edges=[1], first_height=2, layers=1)])
+    assert r.report["status"] == "degraded"
+    assert r.report["boundary_layers"][0]["elements"] == 0
+    assert "boundary layer 1 (Edge1, Edge7) produced no element on any face" in r.report["message"]
+    assert not r.failed_faces and len(r.triangles) > 0  # every face meshed: degraded by the layer alone
+    r = pm.mesh_file(WING, boundary_layers=[dict(edges=[1], first_height=0.01, layers=3)])
+    assert r.report["status"] == "ok" and r.report["boundary_layers"][0]["elements"] > 0
 
 
 @pytest.mark.parametrize("root", ["i1 0", "e1 0", "-1 0", "+1"])

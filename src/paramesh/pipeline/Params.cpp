@@ -82,14 +82,28 @@ void MeshParams::validate() const {
     if (b.layers == 0 && b.thickness == 0) throw ParameterError(id + ": give the number of layers or the thickness");
     if (b.layers > 0 && b.thickness > 0) {
       // consistent pair only: thickness must match h0*(r^N-1)/(r-1) within 1%
-      double t = b.growth == 1.0 ? b.firstHeight * b.layers
-                                 : b.firstHeight * (std::pow(b.growth, b.layers) - 1) / (b.growth - 1);
+      BoundaryLayerSpec byLayers = b;
+      byLayers.thickness = 0;
+      const double t = layerThickness(byLayers);
       if (std::fabs(t - b.thickness) > 0.01 * b.thickness)
         throw ParameterError(id + ": layers, growth, first_height and thickness disagree (the layers give thickness " +
                              num(t) + ", not " + num(b.thickness) + "); give either layers or thickness");
     }
     if (!finite(b.maxAspect) || b.maxAspect < 0) throw ParameterError(id + ": max_aspect must be >= 0");
   }
+}
+
+double layerThickness(const BoundaryLayerSpec& b) {
+  if (b.thickness > 0) return b.thickness;
+  return b.growth == 1.0 ? b.firstHeight * b.layers : b.firstHeight * (std::pow(b.growth, b.layers) - 1) / (b.growth - 1);
+}
+
+std::string describeBoundaryLayer(const BoundaryLayerSpec& b, size_t i) {
+  std::string edges;
+  for (int e : b.edges) edges += (edges.empty() ? "" : ",") + std::to_string(e);
+  if (b.autoEdges) edges += edges.empty() ? "auto edges" : " and auto";
+  else edges = (b.edges.size() == 1 ? "edge " : "edges ") + edges;
+  return "boundary layer #" + std::to_string(i + 1) + " (" + edges + ")";
 }
 
 long checkedMaxElements(double v) {

@@ -38,6 +38,11 @@ struct BoundaryLayerSpec {
   bool autoEdges = false;      ///< grow from the automatically detected leading edges (edges may be empty)
 };
 
+/// The layer's total thickness: the one given, or h0 (r^N - 1) / (r - 1) from its N layers.
+double layerThickness(const BoundaryLayerSpec& b);
+/// How messages name spec i (0-based): "boundary layer #2 (edges 3,5)", "(auto edges)".
+std::string describeBoundaryLayer(const BoundaryLayerSpec& b, size_t i);
+
 /// Parameters of a meshing run. Defaults give a uniform-size mesh at diagonal/50.
 struct MeshParams {
   double size = kNotGiven;     ///< target element edge length (> 0); not given: bounding-box diagonal / 50

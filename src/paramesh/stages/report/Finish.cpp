@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file Finish.cpp
 /// Report stage: counts, quality summary, deviation from the CAD, layer and stray-pcurve warnings,
-/// and the run's status. Reads mesh, report.faces, blStats, blEmpty, blDropped; writes report.
+/// and the run's status (degraded when faces or solids failed, or a layer grew no element). Reads mesh, report.faces, blStats, blEmpty, blDropped; writes report.
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -73,11 +73,8 @@ void MeshContext::finish() {
     report.warnings.push_back(w);
     log.warn(w);
   }
-  // faces where a layer was asked for and no element grew (no two neighbouring columns share a row)
-  for (const auto& [key, st] : blEmpty) {
-    std::string edgesOf;
-    for (int e : report.boundaryLayers[key.second].edges)  // 1-based, listed just above
-      edgesOf += (edgesOf.empty() ? "Edge" : ", Edge") + std::to_string(e);
+  // why a layer's columns gave no element: its stop counts
+  auto stops = [](const FaceBLResult::SpecStats& st) {
     std::string why;
     auto add = [&](int n, const char* what) {
       if (n > 0) why += (why.empty() ? "" : ", ") + std::to_string(n) + " " + what;
@@ -87,11 +84,30 @@ void MeshContext::finish() {
     add(st.stopInvalid, "folding");
     add(st.stopAspect, "at the aspect limit");
     add(st.stopEnd, "at an edge end or a corner");
-    const std::string w = "boundary layer " + std::to_string(key.second + 1) + " (" + edgesOf +
-                          ") got no element on Face" + std::to_string(key.first + 1) + " (" +
-                          std::to_string(st.columns) + " columns" + (why.empty() ? "" : "; stopped: " + why) + ")";
+    return std::to_string(st.columns) + " columns" + (why.empty() ? "" : "; stopped: " + why);
+  };
+  auto edgesOf = [this](int spec) {
+    std::string s;
+    for (int e : report.boundaryLayers[spec].edges)  // 1-based, listed just above
+      s += (s.empty() ? "Edge" : ", Edge") + std::to_string(e);
+    return s.empty() ? std::string("no edge found") : s;
+  };
+  // faces where a layer was asked for and no element grew (no two neighbouring columns share a row)
+  for (const auto& [key, st] : blEmpty) {
+    const std::string w = "boundary layer " + std::to_string(key.second + 1) + " (" + edgesOf(key.second) +
+                          ") got no element on Face" + std::to_string(key.first + 1) + " (" + stops(st) + ")";
     report.warnings.push_back(w);
     log.warn(w);
+  }
+  // a layer asked for that grew no element on any face: the run did not give what was asked
+  std::string empty;
+  for (size_t k = 0; k < report.boundaryLayers.size(); ++k)
+    if (report.boundaryLayers[k].elements == 0)
+      empty += (empty.empty() ? "" : "; ") + ("boundary layer " + std::to_string(k + 1) + " (" + edgesOf((int)k) +
+                                              ") produced no element on any face (" + stops(blStats[k]) + ")");
+  if (!empty.empty() && report.status != RunStatus::Failed) {
+    report.status = RunStatus::Degraded;
+    report.message += "; " + empty;
   }
   warnOverDeviation();
   stage("quality", tq.seconds());

@@ -16,6 +16,25 @@ namespace paramesh {
 
 using namespace tuning;
 
+namespace {
+
+/// A first row or a layer thicker than the whole model is a typo (a unit, a digit), not a
+/// request: a ParameterError naming the spec (i: 0-based).
+void checkLayerAgainstModel(const BoundaryLayerSpec& b, size_t i, double diag) {
+  const std::string id = describeBoundaryLayer(b, i);
+  if (b.firstHeight > diag)
+    throw ParameterError(id + ": first height " + fmt(b.firstHeight) + " exceeds the model's diagonal " + fmt(diag));
+  const double total = layerThickness(b);
+  if (total > diag)
+    throw ParameterError(id + ": total thickness " + fmt(total) +
+                         (b.thickness > 0 ? std::string()
+                                          : " (" + std::to_string(b.layers) + " layers from first height " +
+                                                fmt(b.firstHeight) + ", growth " + fmt(b.growth) + ")") +
+                         " exceeds the model's diagonal " + fmt(diag));
+}
+
+}  // namespace
+
 void MeshContext::resolveParams() {
   p.validate();
   const Box3 box = model.boundingBox();
@@ -52,9 +71,11 @@ void MeshContext::resolveParams() {
       if (l.kind == LocalSize::Kind::Vertex) checkRange(e, model.numVertices(), "Vertex", "local size #" + std::to_string(i + 1));
     }
   }
-  for (size_t i = 0; i < p.boundaryLayers.size(); ++i)
+  for (size_t i = 0; i < p.boundaryLayers.size(); ++i) {
     for (int e : p.boundaryLayers[i].edges)
       checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
+    checkLayerAgainstModel(p.boundaryLayers[i], i, diag);
+  }
   threads = resolveThreads(p.threads);
   progress.setPointBudget(p.maxElements / 2);  // the proximity measurement meshes too
   report.size = p.size;
