@@ -227,11 +227,13 @@ def test_one_segment_edge_between_tangent_neighbours_gets_rows(edge):
 
 def test_a_layer_that_grows_nowhere_is_reported():
     """The M6's Edge2 is 0.51 long, at the tip; with h0 = size/100 its columns on Face1 and Face4
-    stop before a first row is shared (status ok, elements 0). The report says so for each face."""
+    stop before a first row is shared (elements 0): the run is degraded, naming the layer, and the
+    report says so for each face."""
     size = 33.500098860449405
     r = pm.mesh_shape(M6, size=size, boundary_layers=[dict(edges=[2], first_height=size / 100, growth=1.2,
                                                             layers=5)])
-    assert r.report["status"] == "ok"
+    assert r.report["status"] == "degraded"
+    assert "boundary layer 1 (Edge2) produced no element on any face" in r.report["message"], r.report["message"]
     assert r.report["boundary_layers"][0]["elements"] == 0
     msgs = [w for w in r.report["warnings"] if w.startswith("boundary layer 1 (Edge2) got no element")]
     assert [m.split(" on ")[1].split(" ")[0] for m in msgs] == ["Face1", "Face4"], r.report["warnings"]
