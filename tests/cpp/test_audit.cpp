@@ -217,6 +217,22 @@ TEST(Audit, ANodePushedAcrossItsNeighboursIsMovedBackByTheRepair) {
   EXPECT_LT(after.worstNodeOffset, 1e-9);  // moved on its face
 }
 
+TEST(Audit, CoincidentEdgesSharingSegmentsAndBadReferencesDoNotCrashIt) {
+  // unsewn CAD: two coincident CAD edges give the same mesh edge two segments (a fuzzed
+  // wing.brep ended in SIGSEGV here); a triangle naming a node that does not exist is a finding
+  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
+  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  ASSERT_FALSE(m.segments.empty());
+  m.segments.push_back(m.segments[0]);
+  m.segmentEdge.push_back(m.segmentEdge[0]);
+  EXPECT_EQ(total(audit(*g, m)), 0);
+  m.triangles.push_back({0, 1, (int)m.nodes.size() + 5});
+  m.triangleFace.push_back(1);
+  const AuditResult r = audit(*g, m);
+  EXPECT_EQ(r.invalidEntries, 1);
+  EXPECT_EQ(total(r), 0);  // the bad triangle is left out of the other checks
+}
+
 TEST(Audit, ProblemsNameEntitiesAndCountTheRest) {
   AuditResult r;
   addFinding(r, "things", 12, {9, 1, 2, 3, 4, 5, 6, 7, 8, 10, 1}, {4});

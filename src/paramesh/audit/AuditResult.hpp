@@ -11,6 +11,7 @@ namespace paramesh {
 /// What the audit found; every count is 0 on a sound mesh.
 struct AuditResult {
   // conformity: per face, per solid, over the whole mesh
+  int invalidEntries = 0;       ///< elements / segments naming a node or CAD entity that does not exist
   int emptyFaces = 0;           ///< faces without any element (failed faces)
   int openFaceEdges = 0;        ///< mesh edges used once by a face but not on a CAD edge (a hole in a face)
   int faceOverusedEdges = 0;    ///< mesh edges used by more than two elements of one face

@@ -31,16 +31,19 @@ struct EdgeTable {
   std::vector<Side> sides;
 };
 
-EdgeTable buildTable(const SurfaceMesh& m) {
-  const int N = (int)m.nodes.size(), T = (int)m.triangles.size();
+EdgeTable buildTable(const SurfaceMesh& m, const std::vector<char>& valid) {
+  const int N = (int)m.nodes.size(), T = (int)m.triangles.size(), Q = (int)m.quads.size();
   EdgeTable tab;
   tab.start.assign(N + 1, 0);
   auto each = [&](auto&& add) {
     for (int t = 0; t < T; ++t)
-      for (int i = 0; i < 3; ++i) add(m.triangles[t][i], m.triangles[t][(i + 1) % 3], m.triangleFace[t] - 1, t);
-    for (int q = 0; q < (int)m.quads.size(); ++q)
-      for (int i = 0; i < 4; ++i) add(m.quads[q][i], m.quads[q][(i + 1) % 4], m.quadFace[q] - 1, T + q);
-    for (size_t s = 0; s < m.segments.size(); ++s) add(m.segments[s][0], m.segments[s][1], kSegment, m.segmentEdge[s] - 1);
+      if (valid[t])
+        for (int i = 0; i < 3; ++i) add(m.triangles[t][i], m.triangles[t][(i + 1) % 3], m.triangleFace[t] - 1, t);
+    for (int q = 0; q < Q; ++q)
+      if (valid[T + q])
+        for (int i = 0; i < 4; ++i) add(m.quads[q][i], m.quads[q][(i + 1) % 4], m.quadFace[q] - 1, T + q);
+    for (size_t s = 0; s < m.segments.size(); ++s)
+      if (valid[T + Q + s]) add(m.segments[s][0], m.segments[s][1], kSegment, m.segmentEdge[s] - 1);
   };
   each([&](int a, int b, int, int) { ++tab.start[std::min(a, b) + 1]; });
   for (int i = 0; i < N; ++i) tab.start[i + 1] += tab.start[i];
@@ -128,7 +131,7 @@ struct EdgePass {
   void group(int lo, const Side* s, int n) {
     const Vec3 mid = 0.5 * (m.nodes[lo] + m.nodes[s[0].hi]);
     const int edge = s[0].face == kSegment ? s[0].elem : -1;
-    if (edge >= 0) ++s, --n;
+    while (n > 0 && s[0].face == kSegment) ++s, --n;  // coincident CAD edges share their segments
     if (n == 0) return;
     int uses = 0;  // a coincident face's copy shares its source's edges: not counted again
     for (int k = 0; k < n; ++k) uses += !copy(s[k].face);
@@ -194,6 +197,29 @@ struct EdgePass {
   }
 };
 
+/// Per triangle, quad and segment (in that order): its nodes and CAD entity exist. Those that do
+/// not are one finding and left out of the other checks.
+std::vector<char> validEntries(const IGeometryModel& g, const SurfaceMesh& m, AuditResult& r) {
+  const int N = (int)m.nodes.size();
+  auto nodesOk = [N](const int* c, int n) {
+    for (int i = 0; i < n; ++i)
+      if (c[i] < 0 || c[i] >= N) return false;
+    return true;
+  };
+  auto in = [](int x, int n) { return x >= 1 && x <= n; };
+  std::vector<char> ok;
+  ok.reserve(m.triangles.size() + m.quads.size() + m.segments.size());
+  for (size_t t = 0; t < m.triangles.size(); ++t)
+    ok.push_back(nodesOk(m.triangles[t].data(), 3) && in(m.triangleFace[t], g.numFaces()));
+  for (size_t q = 0; q < m.quads.size(); ++q) ok.push_back(nodesOk(m.quads[q].data(), 4) && in(m.quadFace[q], g.numFaces()));
+  for (size_t s = 0; s < m.segments.size(); ++s)
+    ok.push_back(nodesOk(m.segments[s].data(), 2) && in(m.segmentEdge[s], g.numEdges()));
+  r.invalidEntries = (int)std::count(ok.begin(), ok.end(), 0);
+  if (r.invalidEntries)
+    addFinding(r, "elements or segments referring to a node or CAD entity that does not exist", r.invalidEntries, {});
+  return ok;
+}
+
 }  // namespace
 
 Vec3 elementNormal(const SurfaceMesh& m, int e) {
@@ -211,9 +237,13 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
   const SurfaceMesh& m = in.mesh;
   EdgePass pass{in, m, cadEdgeUses(g), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
                 std::cos(foldAngleDeg * kPi / 180.0), {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  const std::vector<char> valid = validEntries(g, m, r);
   std::vector<char> has(g.numFaces(), 0);
-  for (int f : m.triangleFace) has[f - 1] = 1;
-  for (int f : m.quadFace) has[f - 1] = 1;
+  const int T = (int)m.triangles.size();
+  for (int t = 0; t < T; ++t)
+    if (valid[t]) has[m.triangleFace[t] - 1] = 1;
+  for (size_t q = 0; q < m.quads.size(); ++q)
+    if (valid[T + q]) has[m.quadFace[q] - 1] = 1;
   Where empty;
   for (int f = 0; f < g.numFaces(); ++f)
     if (!has[f]) empty.at(Vec3{0, 0, 0}, f, -1);
@@ -230,7 +260,7 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
     ++r.solidsChecked;
     for (const SolidFace& sf : faces) pass.solidsOf[sf.face].emplace_back(s, sf.reversed);
   }
-  const EdgeTable tab = buildTable(m);
+  const EdgeTable tab = buildTable(m, valid);
   for (int lo = 0; lo + 1 < (int)tab.start.size(); ++lo)
     for (int a = tab.start[lo], end = tab.start[lo + 1]; a < end;) {
       int b = a;

@@ -24,7 +24,7 @@ Json auditToJson(const AuditResult& a) {
   j["passed"] = a.passed();
   Json& c = j["counts"];
   const std::pair<const char*, int> counts[] = {
-      {"empty_faces", a.emptyFaces},                 {"open_face_edges", a.openFaceEdges},          {"face_overused_edges", a.faceOverusedEdges},
+      {"invalid_entries", a.invalidEntries},         {"empty_faces", a.emptyFaces},                 {"open_face_edges", a.openFaceEdges},          {"face_overused_edges", a.faceOverusedEdges},
       {"face_misoriented_edges", a.faceMisorientedEdges}, {"non_manifold_edges", a.nonManifoldEdges},
       {"solid_open_edges", a.solidOpenEdges},        {"solid_overused_edges", a.solidOverusedEdges},
       {"solid_misoriented_edges", a.solidMisorientedEdges}, {"duplicate_elements", a.duplicateElements},
