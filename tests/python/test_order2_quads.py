@@ -75,7 +75,9 @@ def test_calculix_runs_s6_s8_bottle(tmp_path):
 def test_calculix_reads_inp_as_written(tmp_path):
     # ccx reads a number from at most 20 columns: the writer prints 12 significant digits (it used
     # to print 17, e.g. -1.8369095307335698e-15, an *ERROR reading *NODE)
-    inp = mesh(tmp_path, BOTTLE, DIAG[BOTTLE] / 15, 'b.inp', '--order', '2')
+    # (at diag/15 the final audit finds triangles folded on the neck's B-spline faces, meshcheck
+    # 10.8 % flipped: the run is degraded, docs/audit.md; diag/20 is clean)
+    inp = mesh(tmp_path, BOTTLE, DIAG[BOTTLE] / 20, 'b.inp', '--order', '2')
     for line in open(inp):
         if line.startswith('*ELEMENT'):
             break

@@ -57,12 +57,17 @@ EdgeTable buildTable(const SurfaceMesh& m, const std::vector<char>& valid) {
 }
 
 /// Element uses of each CAD edge: one per occurrence in a face's wires (a seam counts twice).
-std::vector<int> cadEdgeUses(const IGeometryModel& g) {
-  std::vector<int> uses(g.numEdges(), 0);
+/// Coincident edges (edgeRep) share their nodes: each edge gets its whole group's uses.
+std::vector<int> cadEdgeUses(const IGeometryModel& g, const std::vector<int>& rep) {
+  const int E = g.numEdges();
+  auto repOf = [&](int e) { return rep.size() == (size_t)E && rep[e] >= 0 && rep[e] < E ? rep[e] : e; };
+  std::vector<int> uses(E, 0);
   for (int f = 0; f < g.numFaces(); ++f)
     for (const Wire& w : g.faceWires(f))
-      for (const EdgeUse& u : w.uses) ++uses[u.edge];
-  return uses;
+      for (const EdgeUse& u : w.uses) ++uses[repOf(u.edge)];
+  std::vector<int> group(E);
+  for (int e = 0; e < E; ++e) group[e] = uses[repOf(e)];
+  return group;
 }
 
 /// Entities collected for one kind of finding (a few named, all counted).
@@ -235,7 +240,7 @@ Vec3 elementNormal(const SurfaceMesh& m, int e) {
 void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
   const IGeometryModel& g = in.model;
   const SurfaceMesh& m = in.mesh;
-  EdgePass pass{in, m, cadEdgeUses(g), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
+  EdgePass pass{in, m, cadEdgeUses(g, in.edgeRep), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
                 std::cos(foldAngleDeg * kPi / 180.0), {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const std::vector<char> valid = validEntries(g, m, r);
   std::vector<char> has(g.numFaces(), 0);

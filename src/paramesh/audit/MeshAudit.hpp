@@ -26,6 +26,9 @@ struct AuditInput {
   const std::vector<std::array<Vec2, 4>>& quadUv;
   /// per 0-based face: 1 when its elements are a coincident face's copy (orientation not checked)
   std::vector<char> copyFace;
+  /// per 0-based edge: the edge it coincides with and shares its nodes with (unsewn CAD; empty:
+  /// every edge is its own); a mesh edge on such a group may be used by all the group's faces
+  std::vector<int> edgeRep;
   int threads = 1;     ///< for the checks that evaluate the CAD (orientation, nodes); same result for any count
   bool nodes = true;   ///< check the nodes (coincident, on the CAD); false: the elements only
 };

@@ -12,6 +12,7 @@ namespace paramesh {
 AuditInput MeshContext::auditInput() const {
   AuditInput in{model, mesh, triUv, quadUv, {}};
   in.threads = threads;
+  in.edgeRep = same.edgeRep;
   in.copyFace.assign(model.numFaces(), 0);
   for (size_t f = 0; f < faceStage.copyOf.size() && f < in.copyFace.size(); ++f) in.copyFace[f] = faceStage.copyOf[f] >= 0;
   return in;
