@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <climits>
+#include <memory>
 
 #include "paramesh/audit/MeshAudit.hpp"
 
@@ -129,6 +130,7 @@ struct EdgePass {
   std::vector<std::vector<std::pair<int, bool>>> solidsOf;  ///< per face: (checked solid, reversed)
   double cosFold;
   std::vector<int> bad;  ///< the folded elements
+  std::vector<std::unique_ptr<ISurface>> surf;  ///< per face, made when a fold is judged
   Where holes, overFace, misFace, nonManifold, folds, duplicates, open, over, misoriented;
 
   bool copy(int f) const { return !in.copyFace.empty() && in.copyFace[f]; }
@@ -154,10 +156,28 @@ struct EdgePass {
     solidUse(mid, s, n, edge);
   }
 
+  /// The surface itself turns over between elements a and b (normals at their (u,v) centroids
+  /// more than 90 degrees apart: a crease inside the face): their fold follows it.
+  bool surfaceTurns(const Side& a, const Side& b) {
+    const int T = (int)m.triangles.size();
+    if (in.triUv.size() != m.triangles.size() || in.quadUv.size() != m.quads.size()) return false;
+    if (!surf[a.face]) surf[a.face] = in.model.makeSurface(a.face);
+    Vec3 n[2];
+    int k = 0;
+    for (const Side* x : {&a, &b}) {
+      const int e = x->elem, c = e < T ? 3 : 4;
+      const Vec2* uv = e < T ? in.triUv[e].data() : in.quadUv[e - T].data();
+      Vec2 ctr{0, 0};
+      for (int i = 0; i < c; ++i) ctr = ctr + uv[i];
+      if (!surf[a.face]->normal((1.0 / c) * ctr, n[k++])) return false;
+    }
+    return dot(n[0], n[1]) < 0;
+  }
+
   void fold(Vec3 mid, const Side& a, const Side& b) {
     const Vec3 na = elementNormal(m, a.elem), nb = elementNormal(m, b.elem);
     const double l = norm(na) * norm(nb);
-    if (l > 0 && dot(na, nb) < cosFold * l) {
+    if (l > 0 && dot(na, nb) < cosFold * l && !surfaceTurns(a, b)) {
       folds.at(mid, a.face, -1);
       bad.push_back(a.elem);
       bad.push_back(b.elem);
@@ -241,7 +261,7 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
   const IGeometryModel& g = in.model;
   const SurfaceMesh& m = in.mesh;
   EdgePass pass{in, m, cadEdgeUses(g, in.edgeRep), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
-                std::cos(foldAngleDeg * kPi / 180.0), {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+                std::cos(foldAngleDeg * kPi / 180.0), {}, std::vector<std::unique_ptr<ISurface>>(g.numFaces()), {}, {}, {}, {}, {}, {}, {}, {}, {}};
   const std::vector<char> valid = validEntries(g, m, r);
   std::vector<char> has(g.numFaces(), 0);
   const int T = (int)m.triangles.size();

@@ -88,7 +88,15 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
       Vec3 n;
       if (!surf[f]->normal(c, n)) continue;
       if (g.faceReversed(f)) n = -1.0 * n;
-      if (dot(elementNormal(m, e), n) < 0) {
+      const Vec3 en = elementNormal(m, e);
+      bool against = dot(en, n) < 0;
+      for (int i = 0; i < corners && against; ++i) {  // where the surface turns over (a crease inside
+        Vec3 nc;                                      // the face) some corner sees it facing along
+        if ((hasDegenerateEdge[f] && atSingularPoint(*surf[f], uv[i])) || !surf[f]->normal(uv[i], nc)) continue;
+        if (g.faceReversed(f)) nc = -1.0 * nc;
+        against = dot(en, nc) < 0;
+      }
+      if (against) {
         if (part.bad.empty()) part.first = surf[f]->eval(c);
         part.bad.push_back(e);
         part.faces.push_back(f + 1);
