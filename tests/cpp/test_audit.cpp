@@ -66,6 +66,17 @@ int interiorTriangle(const SurfaceMesh& m, int f) {
   return -1;
 }
 
+/// The box most tests damage: 10 x 20 x 30 meshed at size 2.
+struct BoxMesh {
+  std::unique_ptr<IGeometryModel> g;
+  SurfaceMesh m;
+};
+BoxMesh boxMesh() {
+  BoxMesh b{model(BRepPrimAPI_MakeBox(10, 20, 30).Shape()), {}};
+  b.m = meshOf(*b.g, 2.0).mesh;
+  return b;
+}
+
 int total(const AuditResult& r) {
   return r.emptyFaces + r.openFaceEdges + r.faceOverusedEdges + r.faceMisorientedEdges + r.nonManifoldEdges + r.solidOpenEdges +
          r.solidOverusedEdges + r.solidMisorientedEdges + r.duplicateElements + r.folds + r.invertedElements +
@@ -94,8 +105,7 @@ TEST(Audit, SoundMeshesPassWithEveryCountZero) {
 }
 
 TEST(Audit, AMissingTriangleIsAHoleInItsFaceAndInTheSolid) {
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   const int t = interiorTriangle(m, 3);
   ASSERT_GE(t, 0);
   m.triangles.erase(m.triangles.begin() + t);
@@ -110,8 +120,7 @@ TEST(Audit, AMissingTriangleIsAHoleInItsFaceAndInTheSolid) {
 }
 
 TEST(Audit, ADuplicateTriangleIsCountedAsDuplicateAndNonManifold) {
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   const int t = interiorTriangle(m, 2);
   ASSERT_GE(t, 0);
   m.triangles.push_back(m.triangles[t]);
@@ -124,8 +133,7 @@ TEST(Audit, ADuplicateTriangleIsCountedAsDuplicateAndNonManifold) {
 }
 
 TEST(Audit, AFlippedTriangleIsMisorientedAndFacesAgainstItsSurface) {
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   const int t = interiorTriangle(m, 5);
   ASSERT_GE(t, 0);
   std::swap(m.triangles[t][1], m.triangles[t][2]);
@@ -153,8 +161,7 @@ TEST(Audit, ANodeMovedOffItsFaceIsFoundWithItsDistance) {
 }
 
 TEST(Audit, ACoincidentCopyOfANodeIsFound) {
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   const int t = interiorTriangle(m, 1);
   ASSERT_GE(t, 0);
   const int a = m.triangles[t][0];
@@ -176,8 +183,7 @@ TEST(Audit, AnInvertedTetrahedronIsFound) {
 }
 
 TEST(Audit, AFaceWithoutElementsIsNamedAndItsSolidNotCheckedForClosure) {
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   std::vector<std::array<int, 3>> kept;
   std::vector<int> keptFace;
   for (size_t t = 0; t < m.triangles.size(); ++t)
@@ -195,8 +201,7 @@ TEST(Audit, AFaceWithoutElementsIsNamedAndItsSolidNotCheckedForClosure) {
 }
 
 TEST(Audit, ANodePushedAcrossItsNeighboursIsMovedBackByTheRepair) {
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   const int t = interiorTriangle(m, 6);
   ASSERT_GE(t, 0);
   const int v = m.triangles[t][0];
@@ -220,8 +225,7 @@ TEST(Audit, ANodePushedAcrossItsNeighboursIsMovedBackByTheRepair) {
 TEST(Audit, CoincidentEdgesSharingSegmentsAndBadReferencesDoNotCrashIt) {
   // unsewn CAD: two coincident CAD edges give the same mesh edge two segments (a fuzzed
   // wing.brep ended in SIGSEGV here); a triangle naming a node that does not exist is a finding
-  auto g = model(BRepPrimAPI_MakeBox(10, 20, 30).Shape());
-  SurfaceMesh m = meshOf(*g, 2.0).mesh;
+  auto [g, m] = boxMesh();
   ASSERT_FALSE(m.segments.empty());
   m.segments.push_back(m.segments[0]);
   m.segmentEdge.push_back(m.segmentEdge[0]);

@@ -247,6 +247,11 @@ std::vector<char> validEntries(const IGeometryModel& g, const SurfaceMesh& m, Au
 
 }  // namespace
 
+int elementFace(const SurfaceMesh& m, int e) {
+  const int T = (int)m.triangles.size();
+  return e < T ? m.triangleFace[e] - 1 : m.quadFace[e - T] - 1;
+}
+
 Vec3 elementNormal(const SurfaceMesh& m, int e) {
   const int T = (int)m.triangles.size();
   if (e < T) {

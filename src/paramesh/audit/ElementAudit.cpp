@@ -20,11 +20,6 @@ bool atSingularPoint(const ISurface& s, Vec2 uv) {
   return !(std::min(a, b) > 1e-9 * std::max(a, b));
 }
 
-int elementFace(const SurfaceMesh& m, int e) {
-  const int T = (int)m.triangles.size();
-  return e < T ? m.triangleFace[e] - 1 : m.quadFace[e - T] - 1;
-}
-
 int countDuplicates(const std::vector<std::array<int, 4>>& tets) {
   std::vector<std::array<int, 4>> keys(tets);
   for (auto& k : keys) std::sort(k.begin(), k.end());
@@ -79,10 +74,13 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
       if (!surf[f]) surf[f] = g.makeSurface(f);
       const Vec2* uv = e < T ? in.triUv[e].data() : in.quadUv[e - T].data();
       const int corners = e < T ? 3 : 4;
+      bool singular[4] = {false, false, false, false};  // a corner at a pole or apex has an arbitrary u (or v)
       Vec2 c{0, 0};
       int used = 0;
-      for (int i = 0; i < corners; ++i)  // a corner at a pole or apex has an arbitrary u (or v)
-        if (!hasDegenerateEdge[f] || !atSingularPoint(*surf[f], uv[i])) c = c + uv[i], ++used;
+      for (int i = 0; i < corners; ++i) {
+        singular[i] = hasDegenerateEdge[f] && atSingularPoint(*surf[f], uv[i]);
+        if (!singular[i]) c = c + uv[i], ++used;
+      }
       if (!used) continue;
       c = (1.0 / used) * c;
       Vec3 n;
@@ -92,7 +90,7 @@ void auditOrientation(const AuditInput& in, AuditResult& r) {
       bool against = dot(en, n) < 0;
       for (int i = 0; i < corners && against; ++i) {  // where the surface turns over (a crease inside
         Vec3 nc;                                      // the face) some corner sees it facing along
-        if ((hasDegenerateEdge[f] && atSingularPoint(*surf[f], uv[i])) || !surf[f]->normal(uv[i], nc)) continue;
+        if (singular[i] || !surf[f]->normal(uv[i], nc)) continue;
         if (g.faceReversed(f)) nc = -1.0 * nc;
         against = dot(en, nc) < 0;
       }

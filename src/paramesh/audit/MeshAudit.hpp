@@ -47,6 +47,9 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r);
 void auditElements(const AuditInput& in, AuditResult& r);
 void auditNodes(const AuditInput& in, AuditResult& r);
 
+/// 0-based face of element e (a triangle when e < triangles, else quad e - triangles).
+int elementFace(const SurfaceMesh& m, int e);
+
 /// Normal of element e (a triangle when e < triangles, else quad e - triangles), not normalised.
 Vec3 elementNormal(const SurfaceMesh& m, int e);
 

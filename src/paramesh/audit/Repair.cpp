@@ -28,7 +28,7 @@ struct Repairer {
   int corners(int e) const { return e < T ? 3 : 4; }
   int node(int e, int i) const { return e < T ? m.triangles[e][i] : m.quads[e - T][i]; }
   Vec2& uv(int e, int i) { return e < T ? triUv[e][i] : quadUv[e - T][i]; }
-  int face(int e) const { return (e < T ? m.triangleFace[e] : m.quadFace[e - T]) - 1; }
+  int face(int e) const { return elementFace(m, e); }
   const ISurface& surface(int f) {
     if (!surf[f]) surf[f] = g.makeSurface(f);
     return *surf[f];
