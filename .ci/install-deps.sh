@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package ParaMesh needs to build, test, benchmark and run in FreeCAD.
+# (clang, libclang-rt-14-dev: libFuzzer and clang's sanitizer runtimes for fuzz/; llvm: the
+# llvm-symbolizer that puts file:line into sanitizer reports.)
 # Run as root (or with sudo). Idempotent.
 set -euo pipefail
 SUDO=""
@@ -17,6 +19,7 @@ PKGS=(
   gmsh python3-gmsh
   calculix-ccx
   xvfb xauth
+  clang libclang-rt-14-dev llvm
 )
 missing=()
 for p in "${PKGS[@]}"; do
