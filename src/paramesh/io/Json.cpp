@@ -4,6 +4,7 @@
 #include "paramesh/io/Json.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 
 #include <charconv>
@@ -241,6 +242,12 @@ class JsonParser {
  private:
   const std::string& s_;
   size_t i_ = 0;
+  static int hexDigit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  }
   [[noreturn]] void fail(const std::string& what) const {
     size_t line = 1, col = 1;
     for (size_t k = 0; k < i_ && k < s_.size(); ++k) {
@@ -325,9 +332,14 @@ class JsonParser {
           case 'b': out += '\b'; break;
           case 'f': out += '\f'; break;
           case 'u': {
-            if (i_ + 4 > s_.size()) fail("bad \\u escape");
-            const unsigned cp = (unsigned)std::stoul(s_.substr(i_, 4), nullptr, 16);
-            i_ += 4;
+            // exactly four hex digits (std::stoul would also take "+1", " 1f", "0x1" and throw
+            // std::invalid_argument on none)
+            unsigned cp = 0;
+            for (int k = 0; k < 4; ++k, ++i_) {
+              const int d = i_ < s_.size() ? hexDigit(s_[i_]) : -1;
+              if (d < 0) fail("bad \\u escape (\\u needs four hex digits)");
+              cp = cp * 16 + (unsigned)d;
+            }
             if (cp < 0x80) {
               out += (char)cp;
             } else if (cp < 0x800) {
@@ -363,9 +375,11 @@ class JsonParser {
     if (tok.empty() || tok == "-") fail("expected a value");
     char* end = nullptr;
     if (isInt) {
+      errno = 0;
       const long long v = std::strtoll(tok.c_str(), &end, 10);
       if (*end) fail("bad number '" + tok + "'");
-      return Json((int64_t)v);
+      // beyond int64 (strtoll would clamp it to LLONG_MAX silently): read it as a double
+      if (errno != ERANGE) return Json((int64_t)v);
     }
     const double v = std::strtod(tok.c_str(), &end);
     if (*end) fail("bad number '" + tok + "'");

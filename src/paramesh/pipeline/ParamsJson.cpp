@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "paramesh/pipeline/ParamsJson.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -13,33 +14,62 @@ namespace paramesh {
 
 namespace {
 
+/// A key or value of the input quoted back in a message: between '...', its control characters
+/// written as escapes (a key "a\nb" must not break the message's one line, util/Error.hpp), cut
+/// after 60 characters.
+std::string quoted(const std::string& s) {
+  static const char* hex = "0123456789abcdef";
+  std::string out = "'";
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (i == 60) {
+      out += "...";
+      break;
+    }
+    const unsigned char c = (unsigned char)s[i];
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\t') out += "\\t";
+    else if (c < 0x20 || c == 0x7f) {
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 0xF];
+    } else {
+      out += (char)c;
+    }
+  }
+  return out + "'";
+}
+
 double num(const Json& j, const std::string& key) {
   double v = 0;
   try {
     v = j.number();
   } catch (const Error&) {
-    throw ParameterError("parameter '" + key + "' must be a number");
+    throw ParameterError("parameter " + quoted(key) + " must be a number");
   }
   // 1e999 reads as inf; NaN would read as a length left out (kNotGiven)
-  if (!std::isfinite(v)) throw ParameterError("parameter '" + key + "' must be a finite number");
+  if (!std::isfinite(v)) throw ParameterError("parameter " + quoted(key) + " must be a finite number");
   return v;
 }
 /// A boundary-layer value that is derived when left out: a given one must be > 0.
 double positive(double v, const std::string& key, const char* leftOut) {
   if (!(v > 0))
-    throw ParameterError("parameter '" + key + "' must be > 0 (got " + fmt(v) + "); leave it out " + leftOut);
+    throw ParameterError("parameter " + quoted(key) + " must be > 0 (got " + fmt(v) + "); leave it out " + leftOut);
   return v;
 }
 int integer(const Json& j, const std::string& key) {
   const double v = num(j, key);
-  if (v != (double)(long long)v) throw ParameterError("parameter '" + key + "' must be an integer");
+  // range first: casting a double beyond int's range is undefined behaviour
+  if (!(v >= -2147483648.0 && v <= 2147483647.0))
+    throw ParameterError("parameter " + quoted(key) + " must be an integer in the range of int (got " + fmt(v) + ")");
+  if (v != std::trunc(v)) throw ParameterError("parameter " + quoted(key) + " must be an integer (got " + fmt(v) + ")");
   return (int)v;
 }
 bool boolean(const Json& j, const std::string& key) {
   try {
     return j.boolean();
   } catch (const Error&) {
-    throw ParameterError("parameter '" + key + "' must be true or false");
+    throw ParameterError("parameter " + quoted(key) + " must be true or false");
   }
 }
 std::vector<int> ints(const Json& j, const std::string& key) {
@@ -57,19 +87,24 @@ LocalSize localSize(const Json& j, const std::string& key) {
   if (j.type() == Json::Type::String) {
     const std::string s = j.str();
     const auto eq = s.find('=');
-    if (eq == std::string::npos) throw ParameterError(key + ": expected 'FaceN=size', got '" + s + "'");
+    if (eq == std::string::npos) throw ParameterError(key + ": expected 'FaceN=size', got " + quoted(s));
     const std::string name = s.substr(0, eq);
     std::string digits;
     if (name.rfind("Face", 0) == 0) { l.kind = LocalSize::Kind::Face; digits = name.substr(4); }
     else if (name.rfind("Edge", 0) == 0) { l.kind = LocalSize::Kind::Edge; digits = name.substr(4); }
     else if (name.rfind("Vertex", 0) == 0) { l.kind = LocalSize::Kind::Vertex; digits = name.substr(6); }
-    else throw ParameterError(key + ": expected FaceN, EdgeN or VertexN, got '" + name + "'");
+    else throw ParameterError(key + ": expected FaceN, EdgeN or VertexN, got " + quoted(name));
+    // the whole of both parts: std::stoi("3x") would give 3
+    const std::string value = s.substr(eq + 1);
+    size_t usedDigits = 0, usedValue = 0;
     try {
-      l.entities = {std::stoi(digits)};
-      l.size = std::stod(s.substr(eq + 1));
+      l.entities = {std::stoi(digits, &usedDigits)};
+      l.size = std::stod(value, &usedValue);
     } catch (const std::exception&) {
-      throw ParameterError(key + ": cannot read '" + s + "'");
+      throw ParameterError(key + ": cannot read " + quoted(s));
     }
+    if (usedDigits != digits.size() || usedValue != value.size() || digits.empty() || !std::isdigit((unsigned char)digits[0]))
+      throw ParameterError(key + ": cannot read " + quoted(s));
     return l;
   }
   if (!j.isObject()) throw ParameterError(key + " must be an object or a 'FaceN=size' string");
@@ -79,7 +114,7 @@ LocalSize localSize(const Json& j, const std::string& key) {
     else if (k == "edges") { l.kind = LocalSize::Kind::Edge; l.entities = ints(j.at(k), key + ".edges"); ++kinds; }
     else if (k == "vertices") { l.kind = LocalSize::Kind::Vertex; l.entities = ints(j.at(k), key + ".vertices"); ++kinds; }
     else if (k == "size") l.size = num(j.at(k), key + ".size");
-    else throw ParameterError(key + ": unknown key '" + k + "'");
+    else throw ParameterError(key + ": unknown key " + quoted(k));
   }
   if (kinds != 1) throw ParameterError(key + ": give exactly one of faces, edges, vertices");
   return l;
@@ -98,7 +133,7 @@ BoundaryLayerSpec boundaryLayer(const Json& j, const std::string& key) {
     else if (k == "thickness") b.thickness = positive(num(v, kk), kk, "to derive it from layers");
     else if (k == "max_aspect") b.maxAspect = num(v, kk);
     else if (k == "quads") b.quads = boolean(v, kk);
-    else throw ParameterError(key + ": unknown key '" + k + "'");
+    else throw ParameterError(key + ": unknown key " + quoted(k));
   }
   return b;
 }
@@ -140,7 +175,7 @@ void applyParamsJson(const std::string& text, MeshParams& p) {
       for (size_t i = 0; i < v.size(); ++i)
         p.boundaryLayers.push_back(boundaryLayer(v.at(i), "boundary_layers[" + std::to_string(i) + "]"));
     } else {
-      throw ParameterError("parameter file: unknown key '" + k + "'");
+      throw ParameterError("parameter file: unknown key " + quoted(k));
     }
   }
 }
