@@ -305,9 +305,34 @@ double triangleFit(const SurfaceContext& C, Vec3 a, Vec3 b, Vec3 c, Vec2 s0, Vec
   return ln > 0 ? dot(n, ns) / ln : -1;
 }
 
-/// Inserts the (u,v) centroid of every triangle whose 3D normal deviates from the surface normal
-/// by more than ~60 degrees (small, strongly curved faces whose boundary alone cannot be
-/// triangulated faithfully). A few rounds; the centroid always lies inside its triangle.
+/// The largest cosine between the 3D triangle's normal and its corners' surface normals (corners
+/// without one do not count; 2 when none has one, -1 when degenerate).
+double cornerFit(const TriVertex& a, const TriVertex& b, const TriVertex& c) {
+  const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
+  const double ln = norm(n);
+  if (!(ln > 0)) return -1;
+  double fit = -2;
+  for (const TriVertex* v : {&a, &b, &c})
+    if (norm2(v->normal) > 0) fit = std::max(fit, dot(n, v->normal) / ln);
+  return fit < -1 ? 2 : fit;
+}
+
+// a triangle is folded when its normal is more than ~60 degrees off the surface normal at its
+// (u,v) centroid, or more than ~78 degrees (the optimiser's validity bound) off every corner's:
+// a triangle of boundary nodes only that lies in the plane of a pole's boundary (a half body of
+// revolution cut along its axis), whose centroid's normal alone looks fine
+constexpr double kFoldCentroid = 0.5, kFoldCorner = 0.2;
+
+/// How far triangle (a, b, c) is from being folded: min over both tests of (fit - bound), < 0 folded.
+double foldMargin(const SurfaceContext& C, const TriVertex& a, const TriVertex& b, const TriVertex& c) {
+  return std::min(triangleFit(C, a.xyz, b.xyz, c.xyz, a.uv, b.uv, c.uv) - kFoldCentroid,
+                  cornerFit(a, b, c) - kFoldCorner);
+}
+
+/// Inserts the (u,v) centroid of every folded triangle (foldMargin < 0): small, strongly curved
+/// faces whose boundary alone cannot be triangulated faithfully, and triangles of boundary nodes
+/// only that cut across a pole (their nodes nearly coplanar in 3D). A few rounds; the centroid
+/// always lies inside its triangle.
 int refineFolded(Triangulation& T, const SurfaceContext& C) {
   int inserted = 0;
   const Triangulation::FlipTest test = [&T](int t, int i) { return T.metricFlip(t, i); };
@@ -319,7 +344,7 @@ int refineFolded(Triangulation& T, const SurfaceContext& C) {
       const TriVertex &a = T.verts[tr.v[0]], &b = T.verts[tr.v[1]], &c = T.verts[tr.v[2]];
       if (a.node >= 0 && (a.node == b.node || a.node == c.node)) continue;  // pole triangle
       if (b.node >= 0 && b.node == c.node) continue;
-      if (triangleFit(C, a.xyz, b.xyz, c.xyz, a.uv, b.uv, c.uv) < 0.5) bad.push_back(t);
+      if (foldMargin(C, a, b, c) < 0) bad.push_back(t);
     }
     if (bad.empty()) break;
     for (int t : bad) {
@@ -341,13 +366,13 @@ int refineFolded(Triangulation& T, const SurfaceContext& C) {
       // cuts through a strongly curved corner (a blade tip of radius ~1 at size 9.5) every
       // triangle on it is folded, and the centroids of six rounds converged on the segment, a fan
       // of slivers down to 0.08 degrees.
-      const double before = triangleFit(C, a.xyz, b.xyz, c.xyz, a.uv, b.uv, c.uv);
+      const double before = foldMargin(C, a, b, c);
       const TriVertex* corner[3] = {&a, &b, &c};
       bool futile = false;
       for (int i = 0; i < 3 && !futile; ++i) {
         if (!T.isConstrained(t, i)) continue;
         const TriVertex &p = *corner[nx(i)], &q = *corner[pv(i)];
-        futile = !(triangleFit(C, p.xyz, q.xyz, m.xyz, p.uv, q.uv, m.uv) > before);
+        futile = !(foldMargin(C, p, q, m) > before);
       }
       if (futile) continue;
       const int v = T.addVertex(m);

@@ -72,6 +72,15 @@ inline double sinMinAngle(const TriSides& t) {
   return mx > 0 && mid > 0 ? t.area2 / (mx * mid) : 0.0;
 }
 inline double gamma3(Vec3 a, Vec3 b, Vec3 c) { return radiusRatio(triSides(a, b, c)); }
+
+/// True for an edge between two boundary vertices whose surface normals are more than 120 degrees
+/// apart: the surface turns back on itself between them (across a half body of revolution or a
+/// half cylinder narrower than the mesh), so the chord runs through the body, where a neighbouring
+/// face bounded by the same CAD edges may have the same chord.
+inline bool wrapsAcross(const TriVertex& p, const TriVertex& q) {
+  return (p.flags & q.flags & VF_BOUNDARY) && norm2(p.normal) > 0 && norm2(q.normal) > 0 &&
+         dot(p.normal, q.normal) < -0.5;
+}
 inline double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) { return sinMinAngle(triSides(a, b, c)); }
 
 }  // namespace paramesh

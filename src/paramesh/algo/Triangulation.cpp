@@ -352,17 +352,39 @@ void Triangulation::ring(int v, std::vector<int>& out, bool* closed) const {
   } while (t != start && guard++ < 10000);
 }
 
+bool Triangulation::isEmptyEar(int p, int q, const std::vector<int>& chain, size_t m) const {
+  const Vec2 P = verts[p].uv, Q = verts[q].uv, C = verts[chain[m]].uv;
+  if (orient2d(P, Q, C) <= 0) return false;
+  // the polygon's other vertices: none inside or on the ear, no edge across its two new sides
+  for (size_t i = 0; i < chain.size(); ++i) {
+    if (i == m) continue;
+    const Vec2 X = verts[chain[i]].uv;
+    if (orient2d(P, Q, X) >= 0 && orient2d(Q, C, X) >= 0 && orient2d(C, P, X) >= 0) return false;
+  }
+  std::vector<int> ring{p};
+  ring.insert(ring.end(), chain.begin(), chain.end());
+  ring.push_back(q);
+  for (size_t i = 0; i + 1 < ring.size(); ++i) {
+    const Vec2 X = verts[ring[i]].uv, Y = verts[ring[i + 1]].uv;
+    if (segmentsCross(P, C, X, Y) || segmentsCross(C, Q, X, Y)) return false;
+  }
+  return true;
+}
+
 void Triangulation::triangulatePseudo(int p, int q, const std::vector<int>& chain,
-                                      std::vector<std::array<int, 3>>& out) const {
+                                      std::vector<std::array<int, 3>>& out, bool exact) const {
   if (chain.empty()) return;
-  size_t m = 0;
-  for (size_t i = 1; i < chain.size(); ++i)
-    if (incircle(verts[p].uv, verts[q].uv, verts[chain[m]].uv, verts[chain[i]].uv) > 0) m = i;
+  size_t m = chain.size();
+  for (size_t i = 0; i < chain.size(); ++i) {
+    if (exact && !isEmptyEar(p, q, chain, i)) continue;
+    if (m == chain.size() || incircle(verts[p].uv, verts[q].uv, verts[chain[m]].uv, verts[chain[i]].uv) > 0) m = i;
+  }
+  if (m == chain.size()) m = 0;  // no empty ear (not a simple polygon): the caller's checks fail
   out.push_back({p, q, chain[m]});
   std::vector<int> left(chain.begin(), chain.begin() + m);
   std::vector<int> right(chain.begin() + m + 1, chain.end());
-  triangulatePseudo(p, chain[m], left, out);
-  triangulatePseudo(chain[m], q, right, out);
+  triangulatePseudo(p, chain[m], left, out, exact);
+  triangulatePseudo(chain[m], q, right, out, exact);
 }
 
 bool Triangulation::recoverSegment(int a, int b, std::string& why, int depth) {
@@ -465,9 +487,19 @@ bool Triangulation::recoverSegment(int a, int b, std::string& why, int depth) {
     }
   }
   std::vector<std::array<int, 3>> nt;
-  triangulatePseudo(a, b, leftChain, nt);
   std::vector<int> rc(rightChain.rbegin(), rightChain.rend());
+  triangulatePseudo(a, b, leftChain, nt);
   triangulatePseudo(b, a, rc, nt);
+  // the floating-point incircle can pick a wrong apex among nearly collinear chain points (a
+  // straight pcurve a few 1e-10 off a parameter line, sheet_metal_54 Face3): triangles come out
+  // clockwise. Then the pseudo-polygons again, with only apexes that make an empty ear (exact)
+  bool ccw = true;
+  for (const auto& tr : nt) ccw = ccw && orient2d(verts[tr[0]].uv, verts[tr[1]].uv, verts[tr[2]].uv) > 0;
+  if (!ccw) {
+    nt.clear();
+    triangulatePseudo(a, b, leftChain, nt, true);
+    triangulatePseudo(b, a, rc, nt, true);
+  }
   if (nt.size() != removed.size()) {
     why = "boundary recovery produced an inconsistent triangulation";
     return false;

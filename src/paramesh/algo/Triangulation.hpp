@@ -131,7 +131,13 @@ class Triangulation {
   int newTri();
   std::vector<int> freeTris_;
   bool recoverSegment(int a, int b, std::string& why, int depth = 0);
-  void triangulatePseudo(int p, int q, const std::vector<int>& chain, std::vector<std::array<int, 3>>& out) const;
+  /// Triangulates the pseudo-polygon p, q, chain (left of p->q) by apexes chosen by incircle;
+  /// with exact, only among the apexes making an empty ear (exact predicates; slower).
+  void triangulatePseudo(int p, int q, const std::vector<int>& chain, std::vector<std::array<int, 3>>& out,
+                         bool exact = false) const;
+  /// True when (p, q, chain[m]) is counter-clockwise, holds no other vertex of the pseudo-polygon
+  /// and its sides p-chain[m], chain[m]-q cross none of the polygon's edges.
+  bool isEmptyEar(int p, int q, const std::vector<int>& chain, size_t m) const;
   void legalize(std::vector<std::pair<int, int>>& stack, int v, const FlipTest& test, std::vector<int>* touched);
 };
 

@@ -203,6 +203,11 @@ void Optimizer::measureGaps() {
 }
 
 int Optimizer::sagEdge(int t, const Triangle& tr, double minEdge, bool belowFloor) const {
+  // a triangle at a pole: none. Its edges from the pole cannot be split (below), and splitting
+  // the one across only narrows the pole's fan (slivers of 8 degrees at the nose of a half body
+  // of revolution); its centroid starts a ring nearer the pole
+  for (int k = 0; k < 3; ++k)
+    if (T_.verts[tr.v[k]].flags & VF_POLE) return -1;
   int best = -1;
   double bs = -1, bl = -1;
   for (int i = 0; i < 3; ++i) {
