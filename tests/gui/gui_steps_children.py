@@ -36,11 +36,18 @@ def step_boundary_layer(doc, wing, mesh):
                 panel.refs.list.item(i).setSelected(panel.refs.list.item(i).text() in extra)
             panel.refs.remove.click()
         check("other proposals removed again", panel.refs.names() == ["Edge21"], panel.refs.names())
-    # an aggressive layer on two edges: faces that cannot be meshed are named in the panel
+    # a layer thicker than the model's diagonal (2 mm x 1.3^40: 240 m on a 1.7 m wing) is refused,
+    # the panel naming the parameter
     panel.refs.add("Edge9")
     panel.params.set_value("FirstHeight", 2.0)
     panel.params.set_value("Growth", 1.3)
     panel.params.set_value("Layers", 40)
+    state = apply_and_wait(panel, 60)
+    shown = panel.run.summary.text() + panel.run.log.toPlainText()
+    check("a layer thicker than the model is refused, the panel saying why",
+          state == "failed" and "diagonal" in shown, f"state {state}: {shown[-300:]}")
+    # an aggressive layer on two edges (14 rows, 256 mm): faces that cannot be meshed are named
+    panel.params.set_value("Layers", 14)
     state = apply_and_wait(panel, 60)
     r = report(mesh)
     bad = [f["name"] for f in r.get("faces", []) if f.get("status") != "ok"]
