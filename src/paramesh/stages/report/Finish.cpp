@@ -10,6 +10,7 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/stages/report/ForcedSliver.hpp"
 
 namespace paramesh {
 
@@ -23,6 +24,7 @@ void MeshContext::finish() {
   report.order = mesh.order;
   report.sizeSources = field.numSources();
   report.quality = summarizeQuality(mesh, [this](Vec3 x) { return field.size(x); });
+  if (const std::string w = forcedSliverWarning(mesh, model, field); !w.empty()) report.warnings.push_back(w);
   std::vector<std::string> failed;
   for (const FaceReport& fr : report.faces)
     if (!fr.ok) failed.push_back("Face" + std::to_string(fr.face) + ": " + fr.error);
