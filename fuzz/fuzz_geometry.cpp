@@ -322,6 +322,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   checkReport(out.report, *model);
   const std::string bad = fuzz::checkMesh(out.mesh, *model, out.report);
+  // open bug "degraded-audited" (fuzz/regressions/OPEN): a defective mesh the library's own audit
+  // caught and reported (status degraded, the audit's finding in the message) is let pass when
+  // tolerated, counted; the defect itself is the mesher's (fuzz/regressions/geometry/)
+  if (!bad.empty() && fuzz::known("degraded-audited") && out.report.status == RunStatus::Degraded &&
+      out.report.message.find("the audit found") != std::string::npos) {
+    gOutcomes->count("known: degraded-audited");
+    return 0;
+  }
   if (!bad.empty()) fuzz::finding("%s (status %s: %s)", bad.c_str(), toString(out.report.status), out.report.message.c_str());
   if (gVerbose)
     std::fprintf(stderr, "%s: %zu triangles %zu quads %zu tets; %s\n", toString(out.report.status),

@@ -41,7 +41,9 @@ class SourceReach {
   static double cellFor(const std::vector<double>& reach) {
     double r = 0;
     for (double x : reach) r = std::max(r, x);
-    return std::max(r, 1e-300);
+    // no source reaches anywhere (every reach 0): any cell will do; 1e-300 put every point
+    // ~1e300 cells from the origin
+    return r > 0 ? r : 1.0;
   }
   std::vector<Vec3> p_;
   std::vector<double> reach_;

@@ -80,8 +80,13 @@ class BoxGrid {
   bool empty() const { return cells_.empty(); }
 
  private:
-  std::array<long, 3> key(Vec3 p) const {
-    return {(long)std::floor(p.x / cell_), (long)std::floor(p.y / cell_), (long)std::floor(p.z / cell_)};
+  std::array<long, 3> key(Vec3 p) const { return {index(p.x), index(p.y), index(p.z)}; }
+  /// The cell index along one axis, clamped to +-2^52: a coordinate far beyond the cell size (a
+  /// tiny cell, a huge box) must not be cast beyond long's range (undefined behaviour, UBSan
+  /// float-cast-overflow); NaN is cell 0.
+  long index(double x) const {
+    const double c = std::floor(x / cell_), lim = 4503599627370496.0;
+    return c >= lim ? (long)lim : c <= -lim ? -(long)lim : c == c ? (long)c : 0;
   }
   static uint64_t pack(long i, long j, long k) {
     return ((uint64_t)(i & 0x1FFFFF) << 42) | ((uint64_t)(j & 0x1FFFFF) << 21) | (uint64_t)(k & 0x1FFFFF);

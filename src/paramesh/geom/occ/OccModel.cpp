@@ -528,13 +528,27 @@ std::string lastLine(const std::string& path) {
   return tail.substr(b == std::string::npos ? 0 : b + 1, e - (b == std::string::npos ? 0 : b + 1) + 1);
 }
 
-/// The readers themselves; readShape() runs them under OCC_CATCH_SIGNALS.
-TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext, std::vector<std::string>& warnings) {
-  TopoDS_Shape shape;
+/// A STEP or IGES file that does not end as its format ends (a cut-short download) is refused
+/// before its reader runs. Kept out of readShapeUnguarded(): an access violation inside a reader
+/// jumps (longjmp) back to readShape()'s OCC_CATCH_SIGNALS past the destructors of that frame,
+/// so the strings made here would leak (found by fuzz_iges under LeakSanitizer).
+void requireWholeFile(const std::string& path, const std::string& ext) {
   if (ext == "step" || ext == "stp") {
     const std::string last = lastLine(path);
     if (last.find("END-ISO-10303-21;") == std::string::npos)
       throw InputError("'" + path + "' is cut short: a STEP file ends with END-ISO-10303-21;");
+  } else if (ext == "iges" || ext == "igs") {
+    const std::string last = lastLine(path);
+    if (last.size() < 73 || last[72] != 'T')
+      throw InputError("'" + path + "' is cut short: an IGES file ends with its Terminate (T) section line");
+  }
+}
+
+/// The readers themselves; readShape() runs them under OCC_CATCH_SIGNALS (after requireWholeFile).
+/// Nothing of ParaMesh's own that owns memory may live in this frame across a reader call.
+TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext, std::vector<std::string>& warnings) {
+  TopoDS_Shape shape;
+  if (ext == "step" || ext == "stp") {
     STEPControl_Reader r;
     if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError("'" + path + "' is not a readable STEP file");
     checkDamage(r, "STEP", path, warnings);
@@ -542,9 +556,6 @@ TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext,
     for (int i = 1; i <= n; ++i) r.TransferRoot(i);
     shape = r.OneShape();
   } else if (ext == "iges" || ext == "igs") {
-    const std::string last = lastLine(path);
-    if (last.size() < 73 || last[72] != 'T')
-      throw InputError("'" + path + "' is cut short: an IGES file ends with its Terminate (T) section line");
     IGESControl_Reader r;
     if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw InputError("'" + path + "' is not a readable IGES file");
     checkDamage(r, "IGES", path, warnings);
@@ -571,6 +582,7 @@ TopoDS_Shape readShape(const std::string& path, std::vector<std::string>& warnin
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw InputError("cannot open '" + path + "'");
   }
+  requireWholeFile(path, ext);
   TopoDS_Shape shape;
   try {
     // an access violation inside a reader (OCC 7.6's STEP and IGES readers dereference null
