@@ -50,6 +50,10 @@ inline constexpr double kStaggerMaxAspect = 3.3;
 inline constexpr int kWideStripNodes = 8;
 inline constexpr double kWideStripSpacing = 1.3;
 inline constexpr double kWideStripMinWidth = 0.15;
+// a gap too narrow to stagger whose sides share no vertex (a hole near an end circle): the
+// spacing there at most kGapCapRatio widths, so that the triangle across it, base that spacing and
+// apex midway, keeps its shape (measured: docs/tuning/narrow_gaps.md)
+inline constexpr double kGapCapRatio = 3.0;
 
 inline size_t elementCount(const SurfaceMesh& m) { return m.triangles.size() + m.quads.size(); }
 

@@ -185,8 +185,23 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
   std::vector<std::vector<Want>> wants(ne), wide(ne);
   std::map<std::pair<int, int>, int> weight;
   std::map<std::pair<int, int>, std::vector<const NarrowGap*>> tooNarrow;  // (edge, edge across)
-  for (const auto& fg : gaps)
-    for (const NarrowGap& g : fg) {
+  std::vector<std::vector<Want>> caps(ne);
+  std::map<std::pair<int, int>, std::vector<Want>> capsAt;  // (edge, edge across): its caps
+  auto inLoop = [this](int f, int loop, int e) {
+    const auto& wires = model.faceWires(f);
+    if (loop < 0 || loop >= (int)wires.size()) return true;
+    for (const EdgeUse& u : wires[loop].uses)
+      if (same.edgeRep[u.edge] == same.edgeRep[e]) return true;
+    return false;
+  };
+  auto shareVertex = [this](int a, int b) {
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        if (model.edgeVertex(a, i) >= 0 && model.edgeVertex(a, i) == model.edgeVertex(b, j)) return true;
+    return false;
+  };
+  for (int f = 0; f < nf; ++f)
+    for (const NarrowGap& g : gaps[f]) {
       const double h = field.size(g.p);
       const double r = g.width / h;
       if (r >= kStaggerTo) continue;
@@ -194,6 +209,14 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
       // with room for the follower's side being a little longer than the leader's
       const double bLen = 2.0 * std::sqrt(std::max(0.5 - r * r, 0.0)) * h, bAng = kStaggerMaxAspect * g.width;
       if (bAng < kStaggerWindow * bLen) {
+        // too narrow to stagger, between two loops of the face (a hole near its outer boundary):
+        // the spacing there is capped so that the triangles across it keep their shape
+        const double cap = kGapCapRatio * g.width;
+        if (cap < h && g.edgeIn == g.edgeOut && g.edgeIn >= 0 && g.edgeAcross >= 0 &&
+            !shareVertex(g.edgeIn, g.edgeAcross) && !inLoop(f, g.loop, g.edgeAcross)) {
+          capsAt[{g.edgeIn, g.edgeAcross}].push_back({g.p, cap});
+          capsAt[{g.edgeAcross, g.edgeIn}].push_back({g.q, cap});
+        }
         if (r > kWideStripMinWidth && g.edgeIn == g.edgeOut && g.edgeIn >= 0 && g.edgeAcross >= 0 && g.edgeAcross != g.edgeIn)
           tooNarrow[{g.edgeIn, g.edgeAcross}].push_back(&g);
         continue;
@@ -210,6 +233,10 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
         if (g.edgeIn == g.edgeOut) break;
       }
     }
+  // caps only where the two edges come close over a few nodes (a long strip keeps its spacing)
+  for (const auto& kv : capsAt)
+    if ((int)kv.second.size() < kWideStripNodes)
+      caps[kv.first.first].insert(caps[kv.first.first].end(), kv.second.begin(), kv.second.end());
   // long strips too narrow to stagger: both sides widened (where neither side is staggered)
   for (const auto& kv : tooNarrow) {
     if ((int)kv.second.size() < kWideStripNodes) continue;
@@ -226,6 +253,7 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
     ts[e] = discretizeWith(e, [&](Vec3 x) {
       double h = field.size(x);
       for (const Want& w : W) h = std::max(h, w.b - field.slope() * std::max(0.0, dist(x, w.x) - 0.5 * w.b));
+      for (const Want& c : caps[e]) h = std::min(h, c.b + field.slope() * std::max(0.0, dist(x, c.x) - 0.5 * c.b));
       return h;
     });
   };
@@ -248,17 +276,23 @@ bool MeshContext::staggerNarrowGaps(std::vector<std::vector<double>>& ts, const 
     ++staggered;
     ++changed;
   }
-  int widened = 0;
+  int widened = 0, capped = 0;
   for (int e = 0; e < ne; ++e)
     if (!wide[e].empty() && !edgeStage.staggered[e] && !follower[e]) {
+      caps[e].clear();  // a long strip keeps its wide spacing: the fewest poor triangles
       discretizeWidened(e, wide[e]);
       ++widened;
     }
-  if (changed || widened)
+  for (int e = 0; e < ne; ++e)
+    if (!caps[e].empty() && !edgeStage.staggered[e] && !follower[e] && wide[e].empty() && mayRespace(e, degen)) {
+      discretizeWidened(e, {});
+      ++capped;
+    }
+  if (changed || widened || capped)
     log.info("narrow gaps: " + std::to_string(staggered) + " edges staggered against " +
              std::to_string(changed - staggered) + " widened ones; " + std::to_string(widened) +
-             " sides of long narrow strips widened");
-  return changed + widened > 0;
+             " sides of long narrow strips widened; " + std::to_string(capped) + " edges capped at short narrow gaps");
+  return changed + widened + capped > 0;
 }
 
 }  // namespace paramesh
