@@ -16,6 +16,19 @@ import meshio
 import numpy as np
 
 
+def radius_ratios(P, T):
+    """meshcheck's radius ratio 2 r_in / r_circ per triangle, and the side lengths a, b, c (a
+    opposite corner 0)."""
+    a = np.linalg.norm(P[T[:, 1]] - P[T[:, 2]], axis=1)
+    b = np.linalg.norm(P[T[:, 2]] - P[T[:, 0]], axis=1)
+    c = np.linalg.norm(P[T[:, 0]] - P[T[:, 1]], axis=1)
+    area = 0.5 * np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1)
+    with np.errstate(all='ignore'):
+        s = 0.5 * (a + b + c)
+        g = np.where(area > 0, 2 * (area / s) / (a * b * c / (4 * area)), 0.0)
+    return g, a, b, c
+
+
 def main():
     m = meshio.read(sys.argv[1])
     h = float(sys.argv[2])
@@ -23,13 +36,8 @@ def main():
     T = np.concatenate([c.data for c in m.cells if c.type == 'triangle'])
     quads = [c.data for c in m.cells if c.type == 'quad']
     Q = np.concatenate(quads) if quads else np.zeros((0, 4), int)
-    a = np.linalg.norm(P[T[:, 1]] - P[T[:, 2]], axis=1)
-    b = np.linalg.norm(P[T[:, 2]] - P[T[:, 0]], axis=1)
-    c = np.linalg.norm(P[T[:, 0]] - P[T[:, 1]], axis=1)
-    area = 0.5 * np.linalg.norm(np.cross(P[T[:, 1]] - P[T[:, 0]], P[T[:, 2]] - P[T[:, 0]]), axis=1)
+    g, a, b, c = radius_ratios(P, T)
     with np.errstate(all='ignore'):
-        s = 0.5 * (a + b + c)
-        g = np.where(area > 0, 2 * (area / s) / (a * b * c / (4 * area)), 0)
         cA = np.clip((b * b + c * c - a * a) / (2 * b * c), -1, 1)
         cB = np.clip((a * a + c * c - b * b) / (2 * a * c), -1, 1)
     A = np.degrees(np.arccos(cA)); B = np.degrees(np.arccos(cB)); C = 180 - A - B
