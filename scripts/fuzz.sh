@@ -2,20 +2,23 @@
 # libFuzzer harnesses of fuzz/ (docs/fuzzing.md).
 #
 #   scripts/fuzz.sh NAME SECONDS [libFuzzer args...]   run one harness (builds it and its seed corpus first)
-#   scripts/fuzz.sh build                              configure and build build-fuzz/ (clang++, ASan + UBSan)
-#   scripts/fuzz.sh corpus                             (re)write the seed corpora into build-fuzz/seeds/
+#   scripts/fuzz.sh configure                          configure build-asan/ (clang++, ASan + UBSan, tests too)
+#   scripts/fuzz.sh build                              build the harnesses in build-asan/
+#   scripts/fuzz.sh corpus                             (re)write the seed corpora into build-asan/seeds/
 #   scripts/fuzz.sh replay                             every file of fuzz/regressions/NAME/ through its harness
 #   scripts/fuzz.sh ci                                 build, replay, then a short run of each harness (CI)
 #
 # NAME: step, iges, brep (the readers), params_json (the --params front end), geometry (OpenCASCADE
-# shapes meshed with random parameters). New inputs go to build-fuzz/corpus/NAME (kept between
-# runs), crashes to build-fuzz/artifacts/NAME/. Environment: PARAMESH_FUZZ_BUILD (build-fuzz),
+# shapes meshed with random parameters). The build directory is the one of scripts/sanitize.sh
+# (build-asan/: one sanitized build of the library serves the C++ tests, the CLI and the
+# harnesses). New inputs go to build-asan/corpus/NAME (kept between runs), crashes to
+# build-asan/artifacts/NAME/. Environment: PARAMESH_FUZZ_BUILD (build-asan),
 # PARAMESH_FUZZ_UNGUARDED=1 (readers without OccReaderSignalGuard), PARAMESH_FUZZ_STRICT=1
 # (geometry: a degraded run is a finding too).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$ROOT"
-BUILD="${PARAMESH_FUZZ_BUILD:-$ROOT/build-fuzz}"
+BUILD="${PARAMESH_FUZZ_BUILD:-$ROOT/build-asan}"
 NAMES=(step iges brep params_json geometry)
 
 # LeakSanitizer: OpenCASCADE and TBB keep allocations in static caches for the process' life
@@ -30,12 +33,17 @@ if [ -z "${PARAMESH_FUZZ_KNOWN+set}" ]; then
 fi
 export PARAMESH_FUZZ_KNOWN
 
-build() {
+# The same configuration whichever of sanitize.sh and fuzz.sh comes first.
+configure() {
   if [ ! -f "$BUILD/CMakeCache.txt" ]; then
     cmake -S . -B "$BUILD" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPARAMESH_FUZZ=ON -DPARAMESH_BUILD_TESTS=OFF \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPARAMESH_SANITIZE=ON -DPARAMESH_FUZZ=ON \
       -DPARAMESH_BUILD_PYTHON=OFF >/dev/null
   fi
+}
+
+build() {
+  configure
   cmake --build "$BUILD" -j"$(nproc)" --target fuzz_step fuzz_iges fuzz_brep fuzz_params_json fuzz_geometry fuzz_make_seeds
 }
 
@@ -72,6 +80,9 @@ replay() {
   local fail=0 dir name harness unguarded f rel
   for dir in fuzz/regressions/*/; do
     name="$(basename "$dir")"
+    # open-hangs/: inputs that still hang (beyond -timeout) in OpenCASCADE; replaying them would
+    # cost their time-out each (docs/fuzzing.md, fuzz/regressions/OPEN)
+    [ "$name" = open-hangs ] && continue
     harness="${name%_unguarded}"
     unguarded=0
     [ "$harness" != "$name" ] && unguarded=1
@@ -100,6 +111,7 @@ replay() {
 }
 
 case "${1:-}" in
+  configure) configure;;
   build) build;;
   corpus) build; corpus;;
   replay) build; replay;;
@@ -116,13 +128,22 @@ case "${1:-}" in
       # shellcheck disable=SC2046
       if ! "$BUILD/bin/fuzz_$name" $(opts "$name") -rss_limit_mb=2048 -max_total_time=$secs -print_final_stats=1 \
           -artifact_prefix="$BUILD/artifacts/$name/" "$BUILD/corpus-ci/$name" "$BUILD/seeds/$name" >"$log" 2>&1; then
+        # open "step-setentitynumbers-timeout" (fuzz/regressions/OPEN): OpenCASCADE's STEP reader
+        # stalls in StepData_StepReaderData::SetEntityNumbers in a long-running process; the
+        # input reads in about a second when replayed. Counted, not silent.
+        if [ "$name" = step ] && grep -q "ERROR: libFuzzer: timeout" "$log" && grep -q "SetEntityNumbers" "$log" &&
+            case ",$PARAMESH_FUZZ_KNOWN," in *,step-setentitynumbers-timeout,*) true;; *) false;; esac; then
+          printf 'fuzz_%s: %s runs, then known: step-setentitynumbers-timeout (OpenCASCADE)\n' "$name" \
+            "$(sed -n 's/^#\([0-9]*\).*/\1/p' "$log" | tail -1)"
+          continue
+        fi
         echo "fuzz_$name found a failure:"; tail -60 "$log"; exit 1
       fi
       printf 'fuzz_%s: %s runs in %s s, no failure\n' "$name" \
         "$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")" "$secs"
     done
     ;;
-  ""|-h|--help) sed -n '2,15p' "$0"; exit 1;;
+  ""|-h|--help) sed -n '2,18p' "$0"; exit 1;;
   *)
     [ $# -ge 2 ] || { echo "usage: scripts/fuzz.sh NAME SECONDS [libFuzzer args]" >&2; exit 2; }
     opts "$1" >/dev/null
