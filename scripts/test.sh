@@ -9,4 +9,8 @@ bash scripts/build.sh
 /usr/bin/python3 -m pytest -q tests/python tests/freecad
 # The workbench in a real FreeCAD window under Xvfb (screenshots and summary in out/gui)
 bash tests/gui/run.sh
+# ASan + UBSan build (build-asan/, clang++): C++ tests, seeded parameter sweep and input fuzz of the CLI
+bash scripts/sanitize.sh
+# libFuzzer harnesses (the same build-asan/): regressions replayed, then a short run of each (docs/fuzzing.md)
+bash scripts/fuzz.sh ci
 echo "all tests passed"
