@@ -169,9 +169,9 @@ void bindErrors(py::module_& mod) {
   });
 }
 
-/// An optional length of MeshParams as a Python property: None when left out (kNotGiven).
-/// freecad/paramesh/core/params.py still sends 0.0 for a length left out, so 0 is taken as left
-/// out here too until it sends None; NaN (which is how C++ says "left out") is refused.
+/// An optional length of MeshParams as a Python property: None when left out (kNotGiven). A
+/// given 0 stays 0 (MeshParams::validate refuses it, like the CLI); NaN, how C++ says "left
+/// out", is refused here.
 template <double MeshParams::*Field>
 void optionalLength(py::class_<MeshParams>& c, const char* name) {
   c.def_property(
@@ -182,7 +182,7 @@ void optionalLength(py::class_<MeshParams>& c, const char* name) {
       },
       [name](MeshParams& p, std::optional<double> v) {
         if (v && std::isnan(*v)) throw ParameterError(std::string(name) + " must be a number (got nan)");
-        p.*Field = !v || *v == 0 ? kNotGiven : *v;
+        p.*Field = !v ? kNotGiven : *v;
       });
 }
 

@@ -25,9 +25,11 @@ def test_native_lengths_left_out_are_none():
         assert getattr(n, name) == 2.5
         setattr(n, name, None)
         assert getattr(n, name) is None
-        # freecad/paramesh/core/params.py sends 0.0 for a length left out: read as left out
+        # a given 0 is kept, and refused by validate() (left out is None)
         setattr(n, name, 0.0)
-        assert getattr(n, name) is None
+        assert getattr(n, name) == 0.0
+        with pytest.raises(pm.ParameterError, match=fr"^{name} must be a positive length \(got 0\)"):
+            n.validate()
         with pytest.raises(pm.ParameterError, match=f"{name} must be a number"):
             setattr(n, name, math.nan)
         setattr(n, name, -1.0)
@@ -44,11 +46,15 @@ def test_sizes_left_out_are_the_defaults():
     assert par["min_size"] == pytest.approx(par["size"] / 100)
 
 
-@pytest.mark.xfail(strict=True, reason="the wrapper (freecad/paramesh/core/params.py) sends 0.0 for a size "
-                   "left out, so the core cannot tell size=0 from no size; its defaults must become None")
 def test_size_zero_is_refused_through_the_wrapper():
     with pytest.raises(ValueError, match="size"):  # pm.ParameterError is a ValueError too
         pm.mesh_file(WING, size=0)
+    for name in ("min_size", "max_size", "volume_max_size"):
+        with pytest.raises(ValueError, match=rf"^{name} must be > 0, got 0\.0$"):
+            pm.mesh_file(WING, **{name: 0})
+    # left out (None) is the default: diagonal / 50 (5.03083 / 50)
+    r = pm.mesh_file(WING, size=None)
+    assert abs(r.report["parameters"]["size"] - 5.03083 / 50) < 1e-5, r.report["parameters"]
 
 
 def test_layer_taller_than_the_model_is_refused():

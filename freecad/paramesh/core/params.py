@@ -10,9 +10,9 @@ import numbers
 
 # name -> (unit, help)
 FIELDS = {
-    "size": ("length", "Target element edge length (straight 3D length). 0: bounding-box diagonal / 50."),
-    "min_size": ("length", "Smallest size a size source (curvature, local size) may ask for. When set, the curvature refinement makes no edge below it either (where the curvature angle needs smaller triangles, they stay at the min-size and the report lists them). 0: size / 100 (size / 1000 with a curvature angle or a max deviation)."),
-    "max_size": ("length", "Largest element size. 0: size."),
+    "size": ("length", "Target element edge length (straight 3D length), > 0. Left out (None): bounding-box diagonal / 50."),
+    "min_size": ("length", "Smallest size a size source (curvature, local size) may ask for. When set, the curvature refinement makes no edge below it either (where the curvature angle needs smaller triangles, they stay at the min-size and the report lists them), > 0. Left out (None): size / 100 (size / 1000 with a curvature angle or a max deviation)."),
+    "max_size": ("length", "Largest element size, > 0. Left out (None): size."),
     "curvature_angle": ("degree", "Largest angle an element may subtend on curved faces and edges. 0: off."),
     "max_deviation": ("fraction of size", "Largest distance of a triangle centroid from the CAD, as a fraction "
                       "of size; refines only where needed. 0: off."),
@@ -36,7 +36,7 @@ FIELDS = {
                             "and the report warns. 0: no automatic check."),
     "volume": ("bool", "Also fill every closed solid with tetrahedra (tet4, tet10 at order 2) bounded by the "
                "surface triangles; needs a triangle surface mesh (no quads, triangle boundary layers)."),
-    "volume_max_size": ("length", "Largest tetrahedron edge inside the solids. 0: max_size (the interior grows "
+    "volume_max_size": ("length", "Largest tetrahedron edge inside the solids, > 0. Left out (None): max_size (the interior grows "
                         "from the surface sizes at the grading up to it)."),
     "volume_optimize": ("count", "nglib's optimisation passes on the tetrahedra (swaps, smoothing); each costs "
                         "about as much as the fill itself."),
@@ -61,6 +61,11 @@ def _number(name, v, lo=None, hi=None, lo_open=False, integer=False):
     if hi is not None and v > hi:
         raise ValueError(f"{name} must be <= {hi}, got {v!r}")
     return v
+
+
+def _length(name, v):
+    """A size that may be left out (None); when given it must be > 0 (0 is not 'the default')."""
+    return None if v is None else _number(name, v, lo=0, lo_open=True)
 
 
 def _boolean(name, v):
@@ -172,9 +177,9 @@ class BoundaryLayer:
 class MeshParams:
     """All meshing parameters. See FIELDS for units and meaning; validate() raises ValueError or
     TypeError naming the field."""
-    size: float = 0.0
-    min_size: float = 0.0
-    max_size: float = 0.0
+    size: float = None       # None: left out (the core's default); a given size must be > 0
+    min_size: float = None
+    max_size: float = None
     curvature_angle: float = 0.0
     max_deviation: float = 0.0
     grading: float = 1.3
@@ -187,7 +192,7 @@ class MeshParams:
     nearest_face_check: bool = False
     nearest_face_budget: float = 0.10
     volume: bool = False
-    volume_max_size: float = 0.0
+    volume_max_size: float = None
     volume_optimize: int = 1
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
@@ -203,9 +208,9 @@ class MeshParams:
         return p
 
     def validate(self):
-        self.size = _number("size", self.size, lo=0)
-        self.min_size = _number("min_size", self.min_size, lo=0)
-        self.max_size = _number("max_size", self.max_size, lo=0)
+        self.size = _length("size", self.size)
+        self.min_size = _length("min_size", self.min_size)
+        self.max_size = _length("max_size", self.max_size)
         if self.min_size and self.max_size and self.min_size > self.max_size:
             raise ValueError(f"min_size ({self.min_size}) is larger than max_size ({self.max_size})")
         self.curvature_angle = _number("curvature_angle", self.curvature_angle, lo=0, hi=179.9)
@@ -220,7 +225,7 @@ class MeshParams:
         _boolean("nearest_face_check", self.nearest_face_check)
         self.nearest_face_budget = _number("nearest_face_budget", self.nearest_face_budget, lo=0, hi=10)
         _boolean("volume", self.volume)
-        self.volume_max_size = _number("volume_max_size", self.volume_max_size, lo=0)
+        self.volume_max_size = _length("volume_max_size", self.volume_max_size)
         self.volume_optimize = _number("volume_optimize", self.volume_optimize, lo=0, hi=10, integer=True)
         if isinstance(self.local_sizes, (dict, str, LocalSize)):
             self.local_sizes = [self.local_sizes]
@@ -241,7 +246,8 @@ class MeshParams:
                      "threads", "order", "quads", "optimize_passes", "proximity", "nearest_face_check",
                      "nearest_face_budget", "max_elements", "volume", "volume_max_size",
                      "volume_optimize"):
-            setattr(n, name, getattr(self, name))
+            if getattr(self, name) is not None:  # None: left out, the core's default
+                setattr(n, name, getattr(self, name))
         ls = []
         for s in self.local_sizes:
             x = _native.LocalSize()

@@ -62,7 +62,9 @@ class SurfaceMesh(BaseProxy):
     def params(self, obj):
         """The MeshParams of this object and its children."""
         from ...core.params import MeshParams
-        p = MeshParams(size=float(obj.Size), min_size=float(obj.MinSize), max_size=float(obj.MaxSize),
+        # a property at 0 means "left out" (FreeCAD properties cannot be empty)
+        p = MeshParams(size=float(obj.Size) or None, min_size=float(obj.MinSize) or None,
+                       max_size=float(obj.MaxSize) or None,
                        curvature_angle=float(obj.CurvatureAngle), max_deviation=float(obj.MaxDeviation),
                        grading=float(obj.Grading), threads=int(obj.Threads),
                        order=2 if obj.ElementOrder == "2nd" else 1, quads=bool(obj.Quads),
@@ -72,7 +74,7 @@ class SurfaceMesh(BaseProxy):
                        nearest_face_budget=float(getattr(obj, "NearestFaceBudget", 0.10)),
                        max_elements=int(getattr(obj, "MaxElements", 50000000)),
                        volume=bool(getattr(obj, "Volume3D", False)),
-                       volume_max_size=float(getattr(obj, "VolumeMaxSize", 0.0)),
+                       volume_max_size=float(getattr(obj, "VolumeMaxSize", 0.0)) or None,
                        volume_optimize=int(getattr(obj, "VolumeOptimize", 1)))
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
