@@ -305,16 +305,10 @@ double triangleFit(const SurfaceContext& C, Vec3 a, Vec3 b, Vec3 c, Vec2 s0, Vec
   return ln > 0 ? dot(n, ns) / ln : -1;
 }
 
-/// The largest cosine between the 3D triangle's normal and its corners' surface normals (corners
-/// without one do not count; 2 when none has one, -1 when degenerate).
+/// bestCornerCos of the 3D triangle, -1 when it is degenerate.
 double cornerFit(const TriVertex& a, const TriVertex& b, const TriVertex& c) {
   const Vec3 n = cross(b.xyz - a.xyz, c.xyz - a.xyz);
-  const double ln = norm(n);
-  if (!(ln > 0)) return -1;
-  double fit = -2;
-  for (const TriVertex* v : {&a, &b, &c})
-    if (norm2(v->normal) > 0) fit = std::max(fit, dot(n, v->normal) / ln);
-  return fit < -1 ? 2 : fit;
+  return norm(n) > 0 ? bestCornerCos(a, b, c, n) : -1;
 }
 
 // a triangle is folded when its normal is more than ~60 degrees off the surface normal at its

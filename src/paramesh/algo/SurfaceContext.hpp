@@ -83,4 +83,19 @@ inline bool wrapsAcross(const TriVertex& p, const TriVertex& q) {
 }
 inline double sinMinAngle(Vec3 a, Vec3 b, Vec3 c) { return sinMinAngle(triSides(a, b, c)); }
 
+/// True when an edge of triangle (a, b, c) wrapsAcross.
+inline bool anyWrapsAcross(const TriVertex& a, const TriVertex& b, const TriVertex& c) {
+  return wrapsAcross(a, b) || wrapsAcross(b, c) || wrapsAcross(c, a);
+}
+
+/// The largest cosine between a triangle's normal n (not zero) and its corners' surface normals;
+/// corners without one do not count, 2 when none has one.
+inline double bestCornerCos(const TriVertex& a, const TriVertex& b, const TriVertex& c, Vec3 n) {
+  const double ln = norm(n);
+  double best = -2;
+  for (const TriVertex* v : {&a, &b, &c})
+    if (norm2(v->normal) > 0) best = std::max(best, dot(n, v->normal) / ln);
+  return best < -1 ? 2 : best;
+}
+
 }  // namespace paramesh

@@ -23,18 +23,6 @@ bool facesVertexNormals(const TriVertex& a, const TriVertex& b, const TriVertex&
     if (norm2(v->normal) > 0 && dot(n, v->normal) < minCos * ln) return false;
   return true;
 }
-// the normal n of triangle (a,b,c) makes a cosine of at least minCos with one vertex normal
-// (true when no vertex has one)
-bool facesOneVertexNormal(const TriVertex& a, const TriVertex& b, const TriVertex& c, double minCos, Vec3 n) {
-  const double ln = norm(n);
-  bool any = false;
-  for (const TriVertex* v : {&a, &b, &c}) {
-    if (!(norm2(v->normal) > 0)) continue;
-    if (dot(n, v->normal) >= minCos * ln) return true;
-    any = true;
-  }
-  return !any;
-}
 }  // namespace
 
 double Optimizer::quality(int t) const {
@@ -48,7 +36,7 @@ bool Optimizer::valid(int ia, int ib, int ic) const {
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   if (orient2d(a.uv, b.uv, c.uv) <= 0) return false;
   if (poleCollapsed(a, b, c)) return true;
-  if (wrapsAcross(a, b) || wrapsAcross(b, c) || wrapsAcross(c, a)) return false;
+  if (anyWrapsAcross(a, b, c)) return false;
   // the triangle must face like the surface at each vertex (allowing curvature)
   Vec3 n;
   if (!facesVertexNormals(a, b, c, kFacing, n)) return false;
@@ -61,10 +49,10 @@ bool Optimizer::facesAtCentroid(int ia, int ib, int ic) const {
   const TriVertex &a = T_.verts[ia], &b = T_.verts[ib], &c = T_.verts[ic];
   Vec3 n;
   if (orient2d(a.uv, b.uv, c.uv) <= 0 || !facesVertexNormals(a, b, c, 0.0, n)) return false;
-  if (wrapsAcross(a, b) || wrapsAcross(b, c) || wrapsAcross(c, a)) return false;
+  if (anyWrapsAcross(a, b, c)) return false;
   // and like it at one corner at least: a triangle square to every corner's normal lies across
   // the surface, e.g. in the plane of the boundary around a pole (a half body of revolution)
-  if (!facesOneVertexNormal(a, b, c, kFacing, n)) return false;
+  if (norm(n) > 0 && bestCornerCos(a, b, c, n) < kFacing) return false;
   Vec2 s = (1.0 / 3) * (a.uv + b.uv + c.uv);
   Vec3 foot, nf;
   if (!C_.project((1.0 / 3) * (a.xyz + b.xyz + c.xyz), s, foot)) return false;
