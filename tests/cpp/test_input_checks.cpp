@@ -11,6 +11,12 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <Poly_Polygon3D.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
+#include <Poly_Triangulation.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array1OfPnt.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
@@ -20,6 +26,7 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Iterator.hxx>
 #include <gp_Ax1.hxx>
+#include <gp_Pnt2d.hxx>
 #include <gp_Trsf.hxx>
 
 #include <chrono>
@@ -312,6 +319,109 @@ TEST(InputChecks, BrepPrecheckRefusesCutTextsAtOnce) {
   }
   std::printf("%d cut texts refused, the slowest pre-check %.2f ms\n", cuts, slowest * 1e3);
   EXPECT_LT(slowest, 0.5);  // the largest, bottle.brep (401 kB): measured 12.5 ms
+}
+
+namespace {
+
+/// A box whose faces carry triangulations (with UVs, and normals if asked) and whose edges carry
+/// 3D polygons and polygons on those triangulations: the mesh data sections of a BREP, filled.
+/// The values are placeholders; the reader does not check them against the geometry.
+TopoDS_Shape boxWithMeshData(bool normals) {
+  TopoDS_Shape box = BRepPrimAPI_MakeBox(1, 2, 3).Shape();
+  BRep_Builder b;
+  for (TopExp_Explorer f(box, TopAbs_FACE); f.More(); f.Next()) {
+    Handle(Poly_Triangulation) t = new Poly_Triangulation(4, 2, Standard_True, normals);
+    for (int i = 1; i <= 4; ++i) {
+      t->SetNode(i, gp_Pnt(i, i % 2, 0));
+      t->SetUVNode(i, gp_Pnt2d(i, i % 2));
+      if (normals) t->SetNormal(i, gp_Dir(0, 0, 1));
+    }
+    t->SetTriangle(1, Poly_Triangle(1, 2, 3));
+    t->SetTriangle(2, Poly_Triangle(1, 3, 4));
+    b.UpdateFace(TopoDS::Face(f.Current()), t);
+    for (TopExp_Explorer e(f.Current(), TopAbs_EDGE); e.More(); e.Next()) {
+      TColStd_Array1OfInteger nodes(1, 2);
+      nodes(1) = 1;
+      nodes(2) = 2;
+      TColStd_Array1OfReal params(1, 2);
+      params(1) = 0;
+      params(2) = 1;
+      TColgp_Array1OfPnt points(1, 2);
+      points(1) = gp_Pnt(0, 0, 0);
+      points(2) = gp_Pnt(1, 0, 0);
+      b.UpdateEdge(TopoDS::Edge(e.Current()), new Poly_PolygonOnTriangulation(nodes, params), t, TopLoc_Location());
+      b.UpdateEdge(TopoDS::Edge(e.Current()), new Poly_Polygon3D(points, params));
+    }
+  }
+  return box;
+}
+
+/// The text with token k (counted from the first token of the line starting with `line`) replaced.
+std::string withToken(const std::string& text, const std::string& line, int k, const std::string& to) {
+  size_t at = text.find("\n" + line);
+  EXPECT_NE(at, std::string::npos) << line;
+  ++at;
+  for (int i = 0; i < k; ++i) at = text.find_first_not_of(" \n", text.find_first_of(" \n", at));
+  const size_t end = text.find_first_of(" \n", at);
+  return text.substr(0, at) + to + text.substr(end);
+}
+
+}  // namespace
+
+TEST(InputChecks, BrepPrecheckReadsMeshDataAndRefusesDamagedCounts) {
+  // the mesh data sections as OpenCASCADE writes them, in each version, with and without normals
+  for (bool normals : {false, true})
+    for (TopTools_FormatVersion v : kVersions) {
+      std::ostringstream out;
+      BRepTools::Write(boxWithMeshData(normals), out, Standard_True, normals, v);
+      const std::string text = out.str();
+      SCOPED_TRACE("version " + std::to_string((int)v) + (normals ? ", normals" : ""));
+      ASSERT_NE(text.find("Triangulations 6"), std::string::npos);
+      ASSERT_NE(text.find("PolygonOnTriangulations 24"), std::string::npos);
+      ASSERT_NE(text.find("Polygon3D 12"), std::string::npos);
+      EXPECT_TRUE(occtRead(text).ok);
+      EXPECT_EQ(detail::brepStructureProblem(text), "");
+    }
+  // a count the reader sizes an array by, or loops over, damaged: refused before OpenCASCADE
+  // allocates by it (fuzz_brep: 2.3 GB asked for by a polygon on triangulation's node count)
+  std::ostringstream out;
+  BRepTools::Write(boxWithMeshData(true), out, Standard_True, Standard_True, TopTools_FormatVersion_VERSION_3);
+  const std::string mesh = out.str();
+  const std::string wing = readFile(dataDir() / "wing.brep");
+  ASSERT_NE(wing.find("\n7 "), std::string::npos);  // B-spline curves
+  ASSERT_NE(wing.find("\n9 "), std::string::npos);  // B-spline surfaces
+  struct Damage {
+    std::string name, text, says;
+  };
+  const std::string huge = "584405108";
+  const std::vector<Damage> cases = {
+      {"polygon on triangulation nodes", withToken(mesh, "2 1 2", 0, huge), "declares 584405108 nodes"},
+      {"polygon on triangulation nodes < 0", withToken(mesh, "2 1 2", 0, "-7"), "negative"},
+      {"polygon 3D nodes", withToken(mesh, "Polygon3D", 2, huge), "declares 584405108 nodes"},
+      {"triangulation nodes", withToken(mesh, "Triangulations", 2, huge), "declares 584405108 nodes"},
+      {"triangulation triangles", withToken(mesh, "Triangulations", 3, huge), "declares 584405108 triangles"},
+      {"triangulation flag", withToken(mesh, "Triangulations", 4, "7"), "not 0 or 1"},
+      {"section count", withToken(mesh, "Triangulations", 1, huge), "declares 584405108 records"},
+      {"B-spline curve poles", withToken(wing, "7 ", 4, huge), "declares 584405108 poles"},
+      {"B-spline curve knots", withToken(wing, "7 ", 5, "2000000000"), "declares 2000000000 knots"},
+      {"B-spline surface poles", withToken(wing, "9 ", 8, "100000"), "declares 100000 v poles"},
+      {"unknown surface type", withToken(wing, "9 ", 0, "12"), "surface type 12"},
+      {"a token beyond 254 characters", withToken(wing, "9 ", 1, std::string(300, '1')), "300 characters"},
+  };
+  for (const Damage& d : cases) {
+    SCOPED_TRACE(d.name);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string problem = detail::brepStructureProblem(d.text);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.5);
+    EXPECT_NE(problem.find(d.says), std::string::npos) << problem;
+    EXPECT_THROW(loadOccModelFromBrepString(d.text), InputError);
+  }
+  // trimmed curves nested beyond what the reader's recursion should be asked for
+  std::string deep = mesh.substr(0, mesh.find("\nCurves ")) + "\nCurves 1\n";
+  for (int i = 0; i < 40; ++i) deep += "8 0 1\n";
+  deep += "1 0 0 0 1 0 0\n" + mesh.substr(mesh.find("\nPolygon3D"));
+  EXPECT_NE(detail::brepStructureProblem(deep).find("nested more than 32 deep"), std::string::npos)
+      << detail::brepStructureProblem(deep);
 }
 
 // ---------------------------------------------------------------------------------------------
