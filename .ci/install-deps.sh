@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package ParaMesh needs to build, test, benchmark and run in FreeCAD.
 # (clang, libclang-rt-14-dev: libFuzzer and clang's sanitizer runtimes for fuzz/; llvm: the
-# llvm-symbolizer that puts file:line into sanitizer reports.)
+# llvm-symbolizer that puts file:line into sanitizer reports; openfoam: surfaceCheck reads the
+# named multi-solid STL in tests/python/test_groups.py; tmux: the progress-line capture.)
 # Run as root (or with sudo). Idempotent.
 set -euo pipefail
 SUDO=""
@@ -20,6 +21,7 @@ PKGS=(
   calculix-ccx
   xvfb xauth
   clang libclang-rt-14-dev llvm
+  openfoam tmux
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // paramesh: command-line front end of the ParaMesh library.
+#include <chrono>
 #include <cmath>
+#include <mutex>
+#include <unistd.h>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +19,7 @@
 #include "paramesh/pipeline/ParamsJson.hpp"
 #include "paramesh/pipeline/ReportJson.hpp"
 #include "paramesh/util/Error.hpp"
+#include "paramesh/volume/nglib/NglibFill.hpp"
 
 using namespace paramesh;
 
@@ -25,6 +29,7 @@ const char* kUsage =
     "usage:\n"
     "  paramesh mesh MODEL -o OUT [-o OUT2 ...] [options]   mesh a STEP/IGES/BREP model\n"
     "  paramesh info MODEL                                  list faces and edges\n"
+    "  paramesh --version                                   ParaMesh's, OpenCASCADE's and nglib's versions\n"
     "\n"
     "mesh options:\n"
     "  --size H              target element size, > 0 (default: bounding-box diagonal / 50)\n"
@@ -36,7 +41,8 @@ const char* kUsage =
     "  --max-deviation R     max chordal deviation from the CAD as a fraction of size\n"
     "                        (default 0: off)\n"
     "  --grading G           max size ratio between neighbouring elements (default 1.3)\n"
-    "  --threads N           worker threads (0: all cores; default 1)\n"
+    "  --threads N           worker threads (default 0: the CPUs this process may use; the\n"
+    "                        mesh does not depend on it)\n"
     "  --optimize N          optimisation passes (default 4)\n"
     "  --max-elements N      stop with an error beyond N elements (default 5e7, about 16 GB)\n"
     "  --report FILE.json    write the run report\n"
@@ -64,8 +70,12 @@ const char* kUsage =
     "  --png FILE.png        render a picture of the mesh\n"
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
     "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
-    "  --quiet               no log on stderr\n"
-    "OUT format from its extension: .msh (Gmsh 4.1), .vtu, .stl, .inp\n"
+    "  --group NAME=Face3,Face7  a named group of faces (or Edge<i>s, Solid<i>s) in every output,\n"
+    "                        beside the default Face<i> / Solid<i> / Layer<i> groups; repeatable\n"
+    "  --stl-groups          .stl: named multi-solid ASCII, one solid per group (OpenFOAM); the\n"
+    "                        default with --group\n"
+    "  --quiet               no log and no progress on stderr\n"
+    "OUT format from its extension: .msh (Gmsh 4.1), .vtu, .stl, .inp (CalculiX), .su2\n"
     "exit codes: 0 ok, 1 usage/parameter error, 2 unreadable input, 3 some faces failed,\n"
     "            4 no face could be meshed, 5 output could not be written\n";
 
@@ -103,6 +113,53 @@ std::vector<double> parseList(const std::string& opt, const char* s, size_t n) {
   return v;
 }
 
+/// The progress line on stderr: redrawn in place at most 10 times a second on a terminal, one
+/// line per stage otherwise. Log lines clear it first. Called from worker threads: locked.
+class ProgressLine {
+ public:
+  ProgressLine() : tty_(isatty(fileno(stderr)) != 0), start_(Clock::now()) {}
+  bool update(double fraction, const std::string& stage) {
+    std::lock_guard<std::mutex> lock(mu_);
+    const double t = seconds();
+    if (!tty_) {
+      if (stage != stage_) std::fprintf(stderr, "paramesh: %s (%.1f s)\n", stage.c_str(), t);
+    } else if (stage != stage_ || t - drawn_ >= 0.1) {
+      std::fprintf(stderr, "\r\033[K%-24s %3.0f %%  %6.1f s", stage.c_str(),
+                   100.0 * std::min(1.0, std::max(0.0, fraction)), t);
+      std::fflush(stderr);
+      drawn_ = t;
+      shown_ = true;
+    }
+    stage_ = stage;
+    return true;
+  }
+  /// Clears the line (before a log line, an error or the summary).
+  void clear() {
+    std::lock_guard<std::mutex> lock(mu_);
+    clearLocked();
+  }
+  void log(const std::string& line) {
+    std::lock_guard<std::mutex> lock(mu_);
+    clearLocked();
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  void clearLocked() {
+    if (tty_ && shown_) std::fputs("\r\033[K", stderr);
+    shown_ = false;
+    drawn_ = -1;
+  }
+  bool tty_;
+  Clock::time_point start_;
+  std::mutex mu_;
+  std::string stage_;
+  double drawn_ = -1;
+  bool shown_ = false;
+};
+
 int cmdInfo(int argc, char** argv) {
   if (argc < 3) die(1, "info: missing MODEL");
   try {
@@ -131,6 +188,8 @@ int cmdInfo(int argc, char** argv) {
 
 int cmdMesh(int argc, char** argv) {
   MeshParams p;
+  p.threads = 0;  // the CLI uses the CPUs it may (the library's default is 1)
+  WriteOptions wo;
   std::string model, report, png;
   std::vector<std::string> outs;
   RenderOptions ro;
@@ -193,7 +252,14 @@ int cmdMesh(int argc, char** argv) {
       } catch (const Error& e) {
         die(1, std::string("--local-size: ") + e.what());
       }
-    } else if (a == "--proximity") p.proximity = parseInt(a, next());
+    } else if (a == "--group") {
+      try {
+        p.groups.push_back(parseGroup(next()));
+      } catch (const Error& e) {
+        die(1, std::string("--group: ") + e.what());
+      }
+    } else if (a == "--stl-groups") wo.stlGroups = true;
+    else if (a == "--proximity") p.proximity = parseInt(a, next());
     else if (a == "--nearest-face-check") p.nearestFaceCheck = true;
     else if (a == "--nearest-face-budget") p.nearestFaceBudget = parseNumber(a, next());
     else if (a == "--no-stagger") p.staggerNarrowGaps = false;
@@ -260,28 +326,38 @@ int cmdMesh(int argc, char** argv) {
       const int n = b.layers > 0 ? b.layers : 20;
       b.firstHeight = size / std::pow(b.growth, n - 1);
     }
+  ProgressLine line;
   LogSink sink;
-  if (!quiet)
-    sink = [](LogLevel l, const std::string& m) {
-      if (l >= LogLevel::Info) std::fprintf(stderr, "%s\n", m.c_str());
+  ProgressCallback progress;
+  if (!quiet) {
+    sink = [&line](LogLevel l, const std::string& m) {
+      if (l >= LogLevel::Info) line.log(m);
     };
+    progress = [&line](double f, const std::string& stage) { return line.update(f, stage); };
+  }
   MeshOutput out;
   try {
-    Mesher mesher(*geo, p, sink);
+    Mesher mesher(*geo, p, sink, progress);
     out = mesher.run();
+    line.clear();
   } catch (const ParameterError& e) {
+    line.clear();
     die(1, e.what());
   } catch (const InputError& e) {
+    line.clear();
     die(2, e.what());
   } catch (const Error& e) {
+    line.clear();
     die(4, e.what());
   } catch (const std::exception& e) {
+    line.clear();
     die(4, std::string("internal error: ") + e.what());
   } catch (...) {  // an exception of the geometry kernel that its backend did not translate
+    line.clear();
     die(4, "internal error: an unexpected exception of the geometry kernel");
   }
   try {
-    for (const auto& o : outs) writeMesh(o, out.mesh);
+    for (const auto& o : outs) writeMesh(o, out.mesh, wo);
     if (!report.empty()) writeReportJson(report, out.report);
     if (!png.empty()) renderPng(png, out.mesh, ro);
   } catch (const Error& e) {
@@ -311,6 +387,11 @@ int main(int argc, char** argv) {
     return argc < 2 ? 1 : 0;
   }
   std::string cmd = argv[1];
+  if (cmd == "--version" || cmd == "-V") {
+    std::printf("paramesh %s\nOpenCASCADE %s\nnglib (Netgen) %s\n", PARAMESH_VERSION, occtVersion().c_str(),
+                nglibVersion().c_str());
+    return 0;
+  }
   if (cmd == "mesh") return cmdMesh(argc, argv);
   if (cmd == "info") return cmdInfo(argc, argv);
   die(1, "unknown command '" + cmd + "' (use mesh or info)");

@@ -209,6 +209,14 @@ void bindParams(py::module_& mod) {
       .def_readwrite("quads", &BoundaryLayerSpec::quads)
       .def_readwrite("auto_edges", &BoundaryLayerSpec::autoEdges);
 
+  py::class_<MeshGroup>(mod, "MeshGroup")
+      .def(py::init<>())
+      .def_readwrite("name", &MeshGroup::name)
+      .def_readwrite("dim", &MeshGroup::dim)
+      .def_readwrite("entities", &MeshGroup::entities);
+  mod.def("parse_group", &parseGroup, py::arg("text"),
+          "'NAME=Face3,Face7' (or Edge<i>s, Solid<i>s) into a MeshGroup; raises ParameterError.");
+
   py::class_<MeshParams> mp(mod, "MeshParams");
   optionalLength<&MeshParams::size>(mp, "size");
   optionalLength<&MeshParams::minSize>(mp, "min_size");
@@ -230,6 +238,7 @@ void bindParams(py::module_& mod) {
       .def_readwrite("volume_optimize", &MeshParams::volumeOptimize)
       .def_readwrite("local_sizes", &MeshParams::localSizes)
       .def_readwrite("boundary_layers", &MeshParams::boundaryLayers)
+      .def_readwrite("groups", &MeshParams::groups)
       .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");
 }
 
@@ -334,11 +343,15 @@ void bindResult(py::module_& mod) {
       .def_property_readonly("report_json", [](const PyResult& r) { return reportToJson(r.report).dump(); })
       .def(
           "write",
-          [](const PyResult& r, const std::string& path) {
+          [](const PyResult& r, const std::string& path, bool stlGroups) {
             py::gil_scoped_release nogil;
-            writeMesh(path, r.mesh);
+            WriteOptions o;
+            o.stlGroups = stlGroups;
+            writeMesh(path, r.mesh, o);
           },
-          py::arg("path"), "Writes .msh (Gmsh 4.1), .vtu, .stl or .inp (format from the extension).")
+          py::arg("path"), py::arg("stl_groups") = false,
+          "Writes .msh (Gmsh 4.1), .vtu, .stl, .inp or .su2 (format from the extension) with the named groups; "
+          "stl_groups: .stl as named multi-solid ASCII (the default when the mesh has face groups).")
       .def(
           "render_png",
           [](const PyResult& r, const std::string& path, int width, int height, double az, double el,

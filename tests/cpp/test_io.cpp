@@ -78,6 +78,18 @@ Msh readMsh(const std::string& path) {
       std::getline(in, msh.format);
       std::getline(in, line);
       EXPECT_EQ(line, "$EndMeshFormat");
+    } else if (line == "$PhysicalNames") {
+      std::size_t n;
+      in >> n;
+      for (std::size_t i = 0; i < n; ++i) {
+        int dim, tag;
+        std::string name;
+        in >> dim >> tag >> name;
+        const char* kind[] = {"\"Vertex", "\"Edge", "\"Face", "\"Solid"};
+        EXPECT_EQ(name, kind[dim] + std::to_string(tag) + "\"");
+      }
+      in >> line;
+      EXPECT_EQ(line, "$EndPhysicalNames");
     } else if (line == "$Entities") {
       std::size_t n[4];
       in >> n[0] >> n[1] >> n[2] >> n[3];
@@ -94,7 +106,11 @@ Msh readMsh(const std::string& path) {
           }
           std::size_t nPhys, nBound;
           in >> nPhys;
-          EXPECT_EQ(nPhys, 0u);
+          // an entity holding elements has its default group (Vertex<i> / Edge<i> / Face<i>:
+          // tag = entity number) first; one holding only nodes has none
+          std::vector<int> phys(nPhys);
+          for (int& t : phys) in >> t;
+          if (nPhys) EXPECT_EQ(phys[0], tag);
           if (d > 0) {
             in >> nBound;
             EXPECT_EQ(nBound, 0u);

@@ -96,9 +96,11 @@ class MeshResult:
     def failed_faces(self):
         return [f for f in self.faces if f["status"] != "ok"]
 
-    def write(self, path):
-        """Writes .msh (Gmsh 4.1), .vtu, .stl or .inp (format from the extension)."""
-        self._r.write(os.fspath(path))
+    def write(self, path, stl_groups=False):
+        """Writes .msh (Gmsh 4.1), .vtu, .stl, .inp or .su2 (format from the extension) with the named
+        groups (Face<i>, Solid<i> and the groups parameter's); stl_groups: .stl as named multi-solid
+        ASCII (OpenFOAM), the default when the parameters hold face groups."""
+        self._r.write(os.fspath(path), bool(stl_groups))
 
     def render_png(self, path, **kw):
         """Writes a PNG picture (width, height, azimuth, elevation, color='face'|'quality', focus)."""

@@ -42,10 +42,40 @@ FIELDS = {
                         "about as much as the fill itself."),
     "local_sizes": ("list", "Local sizes: LocalSize objects or dicts {'faces'|'edges'|'vertices': [i,...], "
                     "'size': h}, or strings 'Face3=0.5'."),
+    "groups": ("dict", "Named groups tagged in every output beside the default Face<i> / Solid<i> ones: "
+               "{'inlet': ['Face3', 'Face7'], 'rim': ['Edge2']} or a list of 'inlet=Face3,Face7' strings."),
     "boundary_layers": ("list", "Surface boundary layers: BoundaryLayer objects or dicts {'edges': [21], "
                         "'first_height': 0.5, 'growth': 1.2, 'layers': 20 (or 'thickness'), 'quads': True}; "
                         "{'auto': True, ...} grows from the detected leading edges."),
 }
+
+
+def _groups(v):
+    """groups as {name: ['Face3', ...]}: from a dict of lists (or of 'Face3,Face7' strings) or a list
+    of 'NAME=Face3,Face7' strings; names and entities are checked by the core's parser."""
+    if isinstance(v, str):
+        v = [v]
+    if isinstance(v, (list, tuple)):
+        out = {}
+        for t in v:
+            if not isinstance(t, str) or "=" not in t:
+                raise ValueError(f"groups: expected 'NAME=Face3,Face7', got {t!r}")
+            name, items = t.split("=", 1)
+            out[name] = items.split(",")
+        v = out
+    if not isinstance(v, dict):
+        raise TypeError(f"groups must be a dict {{'inlet': ['Face3', 'Face7']}}, got {type(v).__name__}")
+    out = {}
+    for name, items in v.items():
+        if isinstance(items, str):
+            items = items.split(",")
+        if not isinstance(name, str) or not all(isinstance(i, str) for i in items):
+            raise TypeError(f"groups: {name!r} must map to names like ['Face3', 'Face7']")
+        out[name] = [i.strip() for i in items]
+    from .. import _native
+    for name, items in out.items():
+        _native.parse_group(f"{name}={','.join(items)}")  # the core's check: a bad name is refused now
+    return out
 
 
 def _number(name, v, lo=None, hi=None, lo_open=False, integer=False):
@@ -196,6 +226,7 @@ class MeshParams:
     volume_optimize: int = 1
     local_sizes: list = field(default_factory=list)
     boundary_layers: list = field(default_factory=list)
+    groups: dict = field(default_factory=dict)
 
     @classmethod
     def from_kwargs(cls, **kw):
@@ -237,6 +268,7 @@ class MeshParams:
         self.boundary_layers = [BoundaryLayer.parse(b) for b in self.boundary_layers]
         for i, b in enumerate(self.boundary_layers):
             b.validate(i)
+        self.groups = _groups(self.groups)
         return self
 
     def to_native(self):
@@ -266,6 +298,7 @@ class MeshParams:
             x.auto_edges = b.auto
             bl.append(x)
         n.boundary_layers = bl
+        n.groups = [_native.parse_group(f"{name}={','.join(items)}") for name, items in self.groups.items()]
         return n
 
 

@@ -10,6 +10,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "paramesh/io/Groups.hpp"
 #include "paramesh/io/WriterSupport.hpp"
 #include "paramesh/util/Error.hpp"
 
@@ -19,6 +20,30 @@ namespace paramesh {
 // Abaqus / CalculiX
 
 namespace {
+
+/// Numbers as Abaqus set data lines: 16 to a line.
+void writeList(io::TextOut& out, const std::vector<int>& ids) {
+  for (std::size_t i = 0; i < ids.size(); ++i) out << ids[i] << ((i % 16 == 15 || i + 1 == ids.size()) ? "\n" : ", ");
+}
+
+/// The 1-based nodes of the segments on each edge of the user's edge groups: *NSET, NSET=<name>.
+void writeEdgeGroups(io::TextOut& out, const SurfaceMesh& m) {
+  for (const MeshGroup& g : m.groups) {
+    if (g.dim != 1) continue;
+    std::vector<int> nodes;
+    for (std::size_t s = 0; s < m.segments.size(); ++s)
+      if (std::find(g.entities.begin(), g.entities.end(), m.segmentEdge[s]) != g.entities.end()) {
+        nodes.push_back(m.segments[s][0] + 1);
+        nodes.push_back(m.segments[s][1] + 1);
+        if (m.order == 2) nodes.push_back(m.segmentMid[s] + 1);
+      }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    if (nodes.empty()) continue;
+    out << "*NSET, NSET=" << g.name << '\n';
+    writeList(out, nodes);
+  }
+}
 
 /// The tetrahedra per solid (C3D4 / C3D10 with an ELSET each), then per CAD face its nodes and
 /// its tetrahedron faces (CalculiX face numbers: S1 = 123, S2 = 142, S3 = 243, S4 = 341).
@@ -36,9 +61,20 @@ void writeInpVolume(io::TextOut& out, const SurfaceMesh& m) {
       for (int v : m.tetMid[t]) out << ", " << v + 1;
     out << '\n';
   }
+  std::map<int, std::pair<std::size_t, std::size_t>> solidRange;  // solid -> its 1-based elements [b, e]
   forEachRun(order, tetKey, [&](std::size_t b, std::size_t e) {
     out << "*ELSET, ELSET=Solid" << tetKey(order[b]) << ", GENERATE\n" << b + 1 << ", " << e << ", 1\n";
+    solidRange[tetKey(order[b])] = {b + 1, e};
   });
+  for (const MeshGroup& g : m.groups) {
+    if (g.dim != 3) continue;
+    std::vector<std::pair<std::size_t, std::size_t>> runs;
+    for (int s : g.entities)
+      if (const auto it = solidRange.find(s); it != solidRange.end()) runs.push_back(it->second);
+    if (runs.empty()) continue;
+    out << "*ELSET, ELSET=" << g.name << ", GENERATE\n";
+    for (const auto& [b, e] : runs) out << b << ", " << e << ", 1\n";
+  }
   // tetrahedron faces by their sorted node triple -> (element, face number)
   constexpr int kFace[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
   auto key = [](int a, int b, int c) {
@@ -61,6 +97,8 @@ void writeInpVolume(io::TextOut& out, const SurfaceMesh& m) {
   };
   auto faceKey = [&](int t) { return m.triangleFace[t]; };
   const std::vector<int> tris = sortedBy(m.triangles.size(), faceKey);
+  std::map<int, std::vector<int>> faceNodes;                    // 0-based
+  std::map<int, std::vector<std::pair<int, int>>> faceSides;   // (element, CalculiX face)
   forEachRun(tris, faceKey, [&](std::size_t b, std::size_t e) {
     const int face = faceKey(tris[b]);
     std::vector<int> nodes;
@@ -80,10 +118,33 @@ void writeInpVolume(io::TextOut& out, const SurfaceMesh& m) {
       for (auto it = range.first; it != range.second; ++it)
         if (sameNodes(m.tets[order[it->second.first - 1]], it->second.second - 1, tri)) sides.push_back(it->second);
     }
+    faceNodes[face] = nodes;
+    faceSides[face] = sides;
     if (sides.empty()) return;
     out << "*SURFACE, NAME=Face" << face << ", TYPE=ELEMENT\n";
     for (const auto& [el, f] : sides) out << el << ", S" << f << '\n';
   });
+  // the user's face groups: the union of their faces' node sets and element-face surfaces
+  for (const MeshGroup& g : m.groups) {
+    if (g.dim != 2) continue;
+    std::vector<int> nodes;
+    std::vector<std::pair<int, int>> sides;
+    for (int f : g.entities) {
+      for (int v : faceNodes[f]) nodes.push_back(v + 1);
+      sides.insert(sides.end(), faceSides[f].begin(), faceSides[f].end());
+    }
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    if (!nodes.empty()) {
+      out << "*NSET, NSET=" << g.name << '\n';
+      writeList(out, nodes);
+    }
+    if (!sides.empty()) {
+      out << "*SURFACE, NAME=" << g.name << ", TYPE=ELEMENT\n";
+      for (const auto& [el, f] : sides) out << el << ", S" << f << '\n';
+    }
+  }
+  writeEdgeGroups(out, m);
 }
 
 }  // namespace
@@ -135,10 +196,33 @@ void writeInp(const std::string& path, const SurfaceMesh& m) {
   });
   // Elements are numbered face by face, so each face's set is one contiguous range.
   auto faceKey = [&](int e) { return surfKey(e).first; };
+  std::map<int, std::vector<std::pair<std::size_t, std::size_t>>> faceRanges;  // face -> [b, e] runs
   forEachRun(order, faceKey, [&](std::size_t b, std::size_t e) {
     out << "*ELSET, ELSET=Face" << faceKey(order[b]) << ", GENERATE\n"
         << b + 1 << ", " << e << ", 1\n";
+    faceRanges[faceKey(order[b])].push_back({b + 1, e});
   });
+  // the boundary-layer elements of each spec, and the user's face groups
+  std::map<int, std::vector<int>> layer;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const int el = order[k];
+    const int spec = el < T ? (m.triangleLayer.empty() ? 0 : m.triangleLayer[el])
+                            : (m.quadLayer.empty() ? 0 : m.quadLayer[el - T]);
+    if (spec > 0) layer[spec].push_back(int(k) + 1);
+  }
+  for (const auto& [spec, ids] : layer) {
+    out << "*ELSET, ELSET=Layer" << spec << '\n';
+    writeList(out, ids);
+  }
+  for (const MeshGroup& g : m.groups) {
+    if (g.dim != 2) continue;
+    std::vector<std::pair<std::size_t, std::size_t>> runs;
+    for (int f : g.entities) runs.insert(runs.end(), faceRanges[f].begin(), faceRanges[f].end());
+    if (runs.empty()) continue;
+    out << "*ELSET, ELSET=" << g.name << ", GENERATE\n";
+    for (const auto& [b, e] : runs) out << b << ", " << e << ", 1\n";
+  }
+  writeEdgeGroups(out, m);
   out.commit();
 }
 

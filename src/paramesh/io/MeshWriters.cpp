@@ -173,16 +173,21 @@ void checkMeshForWriting(const std::string& path, const SurfaceMesh& m) {
 
 // ---------------------------------------------------------------------------------------------
 
-void writeMesh(const std::string& path, const SurfaceMesh& m) {
+void writeMesh(const std::string& path, const SurfaceMesh& m, const WriteOptions& options) {
   std::string ext = io::lowerExtension(path);
   if (ext == ".msh") return writeMsh41(path, m);
   if (ext == ".vtu") return writeVtu(path, m);
-  if (ext == ".stl") return writeStl(path, m, true);
+  if (ext == ".stl") {
+    const bool groups = options.stlGroups ||
+                        std::any_of(m.groups.begin(), m.groups.end(), [](const MeshGroup& g) { return g.dim == 2; });
+    return groups ? writeStlGroups(path, m) : writeStl(path, m, true);
+  }
   if (ext == ".inp") return writeInp(path, m);
+  if (ext == ".su2") return writeSu2(path, m);
   if (ext.empty())
-    throw Error("cannot write '" + path + "': no file extension (use .msh, .vtu, .stl or .inp)");
+    throw Error("cannot write '" + path + "': no file extension (use .msh, .vtu, .stl, .inp or .su2)");
   throw Error("unsupported output format '" + ext + "' for '" + path +
-              "' (use .msh, .vtu, .stl or .inp)");
+              "' (use .msh, .vtu, .stl, .inp or .su2)");
 }
 
 }  // namespace paramesh

@@ -42,9 +42,27 @@ void writeStl(const std::string& path, const SurfaceMesh& m, bool binary = true)
 /// an element-face surface (*SURFACE, NAME=Face<i>, TYPE=ELEMENT: the tetrahedron faces on it).
 void writeInp(const std::string& path, const SurfaceMesh& m);
 
-/// Dispatches on the lower-case extension: .msh, .vtu, .stl (binary) or .inp; anything else
-/// throws paramesh::Error.
-void writeMesh(const std::string& path, const SurfaceMesh& m);
+/// Named multi-solid ASCII STL for OpenFOAM (snappyHexMesh, surfaceCheck) and CfdOF: one
+/// "solid NAME ... endsolid NAME" per user face group (a facet in two goes to the first), then
+/// one "solid Face<i>" per CAD face holding facets no group took.
+void writeStlGroups(const std::string& path, const SurfaceMesh& m);
+
+/// SU2 native mesh (ASCII, 0-based). With tetrahedra: NDIME= 3, the tetrahedra as elements and
+/// one MARKER per face group (Face<i> and the user's) holding its triangles. Without: the
+/// surface elements (2D-in-3D, for converters: SU2's solvers need a volume mesh) and one MARKER
+/// per user edge group holding its segments. Linear elements only (order 2 throws Error).
+void writeSu2(const std::string& path, const SurfaceMesh& m);
+
+/// How writeMesh writes what the extension leaves open.
+struct WriteOptions {
+  /// .stl: named multi-solid ASCII (writeStlGroups); also when the mesh has user face groups.
+  bool stlGroups = false;
+};
+
+/// Dispatches on the lower-case extension: .msh, .vtu, .stl (binary; named multi-solid ASCII
+/// with WriteOptions::stlGroups or user face groups), .inp or .su2; anything else throws
+/// paramesh::Error.
+void writeMesh(const std::string& path, const SurfaceMesh& m, const WriteOptions& options = {});
 
 namespace io {
 

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <map>
 
+#include "paramesh/io/Groups.hpp"
 #include "paramesh/io/WriterSupport.hpp"
 #include "paramesh/util/Error.hpp"
 
@@ -52,8 +53,25 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
     for (int v : m.tets[k]) b.add(m.nodes[v]);
   }
 
+  // physical groups: the default ones (Face<i>, Solid<i>) and the user's
+  const std::vector<WrittenGroup> groups = writtenGroups(m);
+  const auto tagsOf = groupTagsByEntity(groups);
   TextOut out(path);
   out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  if (!groups.empty()) {
+    out << "$PhysicalNames\n" << groups.size() << '\n';
+    for (const WrittenGroup& g : groups) out << g.dim << ' ' << g.tag << " \"" << g.name << "\"\n";
+    out << "$EndPhysicalNames\n";
+  }
+  auto physical = [&](int dim, int tag) {
+    const auto it = tagsOf.find({dim, tag});
+    if (it == tagsOf.end()) {
+      out << " 0";
+      return;
+    }
+    out << ' ' << it->second.size();
+    for (int t : it->second) out << ' ' << t;
+  };
 
   out << "$Entities\n"
       << ent[0].size() << ' ' << ent[1].size() << ' ' << ent[2].size() << ' ' << ent[3].size() << '\n';
@@ -63,12 +81,17 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
     out << bb.lo.x << ' ' << bb.lo.y << ' ' << bb.lo.z << ' ' << bb.hi.x << ' ' << bb.hi.y << ' '
         << bb.hi.z;
   };
-  for (const auto& [tag, p] : vertexPos) out << tag << ' ' << p.x << ' ' << p.y << ' ' << p.z << " 0\n";
+  for (const auto& [tag, p] : vertexPos) {
+    out << tag << ' ' << p.x << ' ' << p.y << ' ' << p.z;
+    physical(0, tag);
+    out << '\n';
+  }
   for (int d = 1; d <= 3; ++d)
     for (const auto& [tag, b] : ent[d]) {
       out << tag << ' ';
       box(b);
-      out << " 0 0\n";  // no physical tags, no boundary entities
+      physical(d, tag);
+      out << " 0\n";  // no boundary entities
     }
   out << "$EndEntities\n";
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file VtuWriter.cpp
 /// The VTK XML UnstructuredGrid writer.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -8,6 +9,7 @@
 #include <cstring>
 #include <map>
 
+#include "paramesh/io/Groups.hpp"
 #include "paramesh/io/WriterSupport.hpp"
 #include "paramesh/volume/TetQuality.hpp"
 #include "paramesh/util/Error.hpp"
@@ -25,8 +27,19 @@ void writeVtu(const std::string& path, const SurfaceMesh& m) {
   TextOut out(path);
   out << "<?xml version=\"1.0\"?>\n"
          "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-         "  <UnstructuredGrid>\n"
-      << "    <Piece NumberOfPoints=\"" << N << "\" NumberOfCells=\"" << (T + Q + K) << "\">\n";
+         "  <UnstructuredGrid>\n";
+  // the user's groups: their (tag, dimension) in field data, membership in cell data "group:NAME"
+  std::vector<WrittenGroup> user;
+  for (WrittenGroup& g : writtenGroups(m))
+    if (g.user && g.dim >= 2) user.push_back(std::move(g));
+  if (!user.empty()) {
+    out << "    <FieldData>\n";
+    for (const WrittenGroup& g : user)
+      out << "      <DataArray type=\"Int32\" Name=\"" << g.name << "\" NumberOfTuples=\"2\" format=\"ascii\">" << g.tag
+          << ' ' << g.dim << "</DataArray>\n";
+    out << "    </FieldData>\n";
+  }
+  out << "    <Piece NumberOfPoints=\"" << N << "\" NumberOfCells=\"" << (T + Q + K) << "\">\n";
 
   out << "      <PointData Scalars=\"entity\">\n"
          "        <DataArray type=\"Int32\" Name=\"entity_dim\" format=\"ascii\">\n";
@@ -47,6 +60,23 @@ void writeVtu(const std::string& path, const SurfaceMesh& m) {
            "        <DataArray type=\"Int32\" Name=\"solid\" format=\"ascii\">\n";
     for (std::size_t e = 0; e < T + Q; ++e) out << "0\n";
     for (std::size_t k = 0; k < K; ++k) out << m.tetSolid[k] << '\n';
+  }
+  const bool layers = std::any_of(m.triangleLayer.begin(), m.triangleLayer.end(), [](int l) { return l > 0; }) ||
+                      std::any_of(m.quadLayer.begin(), m.quadLayer.end(), [](int l) { return l > 0; });
+  if (layers) {  // the boundary-layer spec of each surface cell (1-based; 0: none)
+    out << "        </DataArray>\n"
+           "        <DataArray type=\"Int32\" Name=\"layer\" format=\"ascii\">\n";
+    for (std::size_t t = 0; t < T; ++t) out << (m.triangleLayer.empty() ? 0 : m.triangleLayer[t]) << '\n';
+    for (std::size_t q = 0; q < Q; ++q) out << (m.quadLayer.empty() ? 0 : m.quadLayer[q]) << '\n';
+    for (std::size_t k = 0; k < K; ++k) out << "0\n";
+  }
+  for (const WrittenGroup& g : user) {
+    out << "        </DataArray>\n"
+           "        <DataArray type=\"Int32\" Name=\"group:" << g.name << "\" format=\"ascii\">\n";
+    auto in = [&](int e) { return std::binary_search(g.entities.begin(), g.entities.end(), e) ? "1\n" : "0\n"; };
+    for (std::size_t t = 0; t < T; ++t) out << (g.dim == 2 ? in(m.triangleFace[t]) : "0\n");
+    for (std::size_t q = 0; q < Q; ++q) out << (g.dim == 2 ? in(m.quadFace[q]) : "0\n");
+    for (std::size_t k = 0; k < K; ++k) out << (g.dim == 3 ? in(m.tetSolid[k]) : "0\n");
   }
   out << "        </DataArray>\n"
          "        <DataArray type=\"Float64\" Name=\"quality\" format=\"ascii\">\n";

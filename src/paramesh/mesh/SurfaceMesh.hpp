@@ -14,6 +14,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "paramesh/mesh/MeshGroup.hpp"
+
 #include "paramesh/util/Vec.hpp"
 
 namespace paramesh {
@@ -46,7 +48,9 @@ struct SurfaceMesh {
   std::vector<int> tetSolid;                  ///< #K 1-based CAD solid (FreeCAD Solid<i>)
   std::vector<std::array<int, 6>> tetMid;     ///< #K mid-edge nodes when order == 2
 
-  int numFaces = 0, numEdges = 0, numVertices = 0, numSolids = 0;  ///< CAD entity counts (for writers)
+  int numFaces = 0, numEdges = 0, numVertices = 0, numSolids = 0;
+  /// User groups (MeshGroup.hpp), checked against the model; the writers add the default ones.
+  std::vector<MeshGroup> groups;  ///< CAD entity counts (for writers)
 
   int addNode(Vec3 p, NodeKind k, int entity, Vec2 param = {}) {
     nodes.push_back(p);

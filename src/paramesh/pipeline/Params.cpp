@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 #include "paramesh/pipeline/Params.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -66,6 +67,20 @@ void MeshParams::validate() const {
     if (l.entities.empty()) throw ParameterError("local size #" + std::to_string(i + 1) + " names no entity");
     for (int e : l.entities)
       if (e < 1) throw ParameterError("local size #" + std::to_string(i + 1) + ": entity numbers start at 1 (got " + std::to_string(e) + ")");
+  }
+  for (size_t i = 0; i < groups.size(); ++i) {
+    const MeshGroup& g = groups[i];
+    if (const std::string why = groupNameProblem(g.name); !why.empty()) throw ParameterError(why);
+    if (g.dim < 1 || g.dim > 3) throw ParameterError("group '" + g.name + "': dim must be 1, 2 or 3");
+    if (g.entities.empty()) throw ParameterError("group '" + g.name + "' names no entity");
+    for (int e : g.entities)
+      if (e < 1) throw ParameterError("group '" + g.name + "': entity numbers start at 1 (got " + std::to_string(e) + ")");
+    for (size_t k = 0; k < i; ++k) {
+      std::string a = g.name, b = groups[k].name;
+      for (char& c : a) c = (char)std::tolower((unsigned char)c);
+      for (char& c : b) c = (char)std::tolower((unsigned char)c);
+      if (a == b) throw ParameterError("group '" + g.name + "' is given twice (names compare without case)");
+    }
   }
   for (size_t i = 0; i < boundaryLayers.size(); ++i) {
     const BoundaryLayerSpec& b = boundaryLayers[i];

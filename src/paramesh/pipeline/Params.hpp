@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "paramesh/mesh/MeshGroup.hpp"
+
 namespace paramesh {
 
 /// The value of an optional length the caller left out. A NaN: no reader passes one on as a
@@ -82,6 +84,8 @@ struct MeshParams {
   int volumeOptimize = 1;
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;
+  /// Named groups the writers tag beside the default ones (Face<i>, Solid<i>, Layer<i>).
+  std::vector<MeshGroup> groups;
 
   /// Throws ParameterError naming the first invalid field.
   void validate() const;

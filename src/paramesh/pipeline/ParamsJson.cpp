@@ -170,6 +170,27 @@ void applyParamsJson(const std::string& text, MeshParams& p) {
     else if (k == "local_sizes") {
       if (!v.isArray()) throw ParameterError("parameter 'local_sizes' must be a list");
       for (size_t i = 0; i < v.size(); ++i) p.localSizes.push_back(localSize(v.at(i), "local_sizes[" + std::to_string(i) + "]"));
+    } else if (k == "groups") {
+      // {"inlet": ["Face3", "Face7"], ...} or ["inlet=Face3,Face7", ...]
+      if (v.isObject()) {
+        for (const std::string& name : v.keys()) {
+          const Json& list = v.at(name);
+          if (!list.isArray()) throw ParameterError("groups." + name + " must be a list like [\"Face3\", \"Face7\"]");
+          std::string text = name + "=";
+          for (size_t i = 0; i < list.size(); ++i) {
+            if (list.at(i).type() != Json::Type::String) throw ParameterError("groups." + name + " must hold names like \"Face3\"");
+            text += (i ? "," : "") + list.at(i).str();
+          }
+          p.groups.push_back(parseGroup(text));
+        }
+      } else if (v.isArray()) {
+        for (size_t i = 0; i < v.size(); ++i) {
+          if (v.at(i).type() != Json::Type::String) throw ParameterError("groups[" + std::to_string(i) + "] must read \"NAME=Face3,Face7\"");
+          p.groups.push_back(parseGroup(v.at(i).str()));
+        }
+      } else {
+        throw ParameterError("parameter 'groups' must be an object {\"NAME\": [\"Face3\", ...]} or a list");
+      }
     } else if (k == "boundary_layers") {
       if (!v.isArray()) throw ParameterError("parameter 'boundary_layers' must be a list");
       for (size_t i = 0; i < v.size(); ++i)

@@ -55,6 +55,8 @@
 #include "paramesh/geom/occ/BrepPrecheck.hpp"
 #include "paramesh/util/Error.hpp"
 
+#include <Standard_Version.hxx>
+
 namespace paramesh {
 namespace {
 
@@ -640,5 +642,7 @@ std::string occFileToBrepString(const std::string& path) {
 
 OccReaderSignalGuard::OccReaderSignalGuard() { OSD::SetSignal(OSD_SignalMode_Set, false); }
 OccReaderSignalGuard::~OccReaderSignalGuard() { OSD::SetSignal(OSD_SignalMode_Unset, false); }
+
+std::string occtVersion() { return OCC_VERSION_COMPLETE; }
 
 }  // namespace paramesh

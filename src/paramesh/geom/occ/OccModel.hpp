@@ -14,6 +14,9 @@ namespace paramesh {
 /// the extension. Throws InputError with the reason when the file cannot be read or has no face.
 std::unique_ptr<IGeometryModel> loadOccModel(const std::string& path);
 
+/// The OpenCASCADE version the library was built on ("7.6.3").
+std::string occtVersion();
+
 /// Reads a model from an OpenCASCADE BREP text (what FreeCAD's Shape.exportBrepToString() gives).
 std::unique_ptr<IGeometryModel> loadOccModelFromBrepString(const std::string& brep);
 

@@ -110,6 +110,7 @@ void MeshContext::resetMesh() {
   m.numEdges = mesh.numEdges;
   m.numVertices = mesh.numVertices;
   m.numSolids = mesh.numSolids;
+  m.groups = mesh.groups;
   mesh = std::move(m);
   edges.clear();
   vertexNode.clear();

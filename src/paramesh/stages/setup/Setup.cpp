@@ -71,6 +71,10 @@ void MeshContext::resolveParams() {
       if (l.kind == LocalSize::Kind::Vertex) checkRange(e, model.numVertices(), "Vertex", "local size #" + std::to_string(i + 1));
     }
   }
+  for (const MeshGroup& g : p.groups)
+    for (int e : g.entities)
+      checkRange(e, g.dim == 1 ? model.numEdges() : g.dim == 2 ? model.numFaces() : model.numSolids(),
+                 g.dim == 1 ? "Edge" : g.dim == 2 ? "Face" : "Solid", "group '" + g.name + "'");
   for (size_t i = 0; i < p.boundaryLayers.size(); ++i) {
     for (int e : p.boundaryLayers[i].edges)
       checkRange(e, model.numEdges(), "Edge", "boundary layer #" + std::to_string(i + 1));
@@ -98,6 +102,7 @@ void MeshContext::resolveParams() {
   report.cadVertices = model.numVertices();
   report.cadSolids = model.numSolids();
   mesh.numFaces = model.numFaces();
+  mesh.groups = p.groups;
   mesh.numEdges = model.numEdges();
   mesh.numVertices = model.numVertices();
   mesh.numSolids = model.numSolids();

@@ -142,4 +142,6 @@ NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std
   return r;
 }
 
+std::string nglibVersion() { return PARAMESH_NGLIB_VERSION; }
+
 }  // namespace paramesh

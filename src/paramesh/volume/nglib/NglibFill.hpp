@@ -30,4 +30,7 @@ struct NglibResult {
 NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
                           const NglibOptions& options);
 
+/// The Netgen version of the nglib the library was built on (from Netgen's CMake config).
+std::string nglibVersion();
+
 }  // namespace paramesh
