@@ -2,7 +2,8 @@
 # Installs every Debian 12 package ParaMesh needs to build, test, benchmark and run in FreeCAD.
 # (clang, libclang-rt-14-dev: libFuzzer and clang's sanitizer runtimes for fuzz/; llvm: the
 # llvm-symbolizer that puts file:line into sanitizer reports; openfoam: surfaceCheck reads the
-# named multi-solid STL in tests/python/test_groups.py; tmux: the progress-line capture.)
+# named multi-solid STL in tests/python/test_groups.py; python3-dolfinx: its Poisson check of our
+# volume MSH; tmux: the progress-line capture.)
 # Run as root (or with sudo). Idempotent.
 set -euo pipefail
 SUDO=""
@@ -21,7 +22,7 @@ PKGS=(
   calculix-ccx
   xvfb xauth
   clang libclang-rt-14-dev llvm
-  openfoam tmux
+  openfoam tmux python3-dolfinx
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -71,7 +71,7 @@ const char* kUsage =
     "  --view AZ,EL          picture view direction in degrees (default 35,25)\n"
     "  --focus X0,Y0,Z0,X1,Y1,Z1  frame only this box in the picture\n"
     "  --group NAME=Face3,Face7  a named group of faces (or Edge<i>s, Solid<i>s) in every output,\n"
-    "                        beside the default Face<i> / Solid<i> / Layer<i> groups; repeatable\n"
+    "                        beside the default Face<i> / Solid<i> / BoundaryLayer<i>; repeatable\n"
     "  --stl-groups          .stl: named multi-solid ASCII, one solid per group (OpenFOAM); the\n"
     "                        default with --group\n"
     "  --quiet               no log and no progress on stderr\n"

@@ -340,6 +340,14 @@ void bindResult(py::module_& mod) {
       .def_property_readonly("tetra_solid", [](const PyResult& r) { return intVector(r.mesh.tetSolid); },
                              "(K,) int32 1-based CAD solid of each tetrahedron (FreeCAD's Solid<i>)")
       .def_property_readonly("num_solids", [](const PyResult& r) { return r.mesh.numSolids; })
+      .def_property_readonly(
+          "groups",
+          [](const PyResult& r) {
+            py::list out;
+            for (const MeshGroup& g : r.mesh.groups) out.append(py::make_tuple(g.name, g.dim, g.entities));
+            return out;
+          },
+          "the user groups: [(name, dim, [1-based entities])], dim 1 edges, 2 faces, 3 solids")
       .def_property_readonly("report_json", [](const PyResult& r) { return reportToJson(r.report).dump(); })
       .def(
           "write",

@@ -26,7 +26,7 @@ def step_workbench():
     check("workbench active", FreeCADGui.activeWorkbench().name() == "ParaMeshWorkbench",
           FreeCADGui.activeWorkbench().name())
     ids = ["ParaMesh_SurfaceMesh", "ParaMesh_BoundaryLayer", "ParaMesh_LocalSize", "ParaMesh_Quality",
-           "ParaMesh_Export", "ParaMesh_ToMesh"]
+           "ParaMesh_Export", "ParaMesh_ToMesh", "ParaMesh_FromGmsh"]
     cmds = FreeCADGui.listCommands()
     check("all commands registered", all(i in cmds for i in ids), [i for i in ids if i not in cmds])
     icons = [os.path.join(REPO, "icons", i + ".svg") for i in ids + ["ParaMeshWorkbench"]]
@@ -36,7 +36,7 @@ def step_workbench():
     check("ParaMesh toolbar shown", bool(tb) and tb[0].isVisible())
     if tb:
         names = [a.text() for a in tb[0].actions()]
-        check("toolbar holds the six commands", len([a for a in tb[0].actions() if not a.isSeparator()]) >= 6, names)
+        check("toolbar holds the seven commands", len([a for a in tb[0].actions() if not a.isSeparator()]) >= 7, names)
     menus = [m.title() for m in main_window().menuBar().findChildren(QtGui.QMenu)]
     check("ParaMesh menu", any(t.replace("&", "") == "ParaMesh" for t in menus))
 

@@ -41,6 +41,7 @@ from gui_steps_output import (step_export, step_quality, step_reopened_quality_a
                               step_save_reopen, step_to_mesh)
 from gui_steps_latency import step_latency  # noqa: E402
 from gui_steps_volume import step_volume  # noqa: E402
+from gui_steps_handover import step_handover  # noqa: E402
 
 
 def run_all():
@@ -91,6 +92,7 @@ def run_all():
                 guarded("reopened quality/export", step_reopened_quality_and_export, *reopened)
                 FreeCAD.closeDocument(reopened[0].Name)
         guarded("volume", step_volume)
+        guarded("hand-over from Gmsh", step_handover)
     if os.environ.get("PARAMESH_GUI_SKIP_BIG") != "1":
         guarded("latency", step_latency)
     wait_ms(200)

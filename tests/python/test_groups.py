@@ -90,7 +90,7 @@ def test_user_groups_hold_exactly_their_faces_elements_in_every_format(tmp_path)
     face = np.concatenate(v.cell_data["face"])
     assert int(neck.sum()) == per_face[3] + per_face[7]
     assert set(face[neck == 1]) == {3, 7}
-    assert list(v.field_data["neck"]) == [72, 2]  # (tag, dim): after the 71 faces' own groups
+    assert list(v.field_data["neck"]) == [1, 2]  # (tag, dim): the user's groups come first
     # INP: ELSET neck = the elements of ELSET Face3 and Face7
     sets = inp_sets(outs[2])
     assert sets["ELSET=neck"] == sets["ELSET=Face3"] | sets["ELSET=Face7"]
@@ -217,3 +217,52 @@ def test_python_api_and_params_json_groups(tmp_path):
         msh = str(tmp_path / "j.msh")
         run(model, [msh], "--params", str(params), tmp=str(tmp_path))
         assert len(gmsh_groups(msh)["neck"][1]) == per_face[3] + per_face[7]
+
+
+def test_dolfinx_solves_poisson_with_conditions_on_named_groups(tmp_path):
+    """dolfinx (0.5, Debian python3-dolfinx) reads our volume MSH through Gmsh's API with cell and
+    facet tags; u = 0 on the group 'left' (x = 0), u = 1 on 'right' (x = 10), no flux elsewhere: the
+    exact solution x / 10, which linear elements reproduce to round-off."""
+    dolfinx = pytest.importorskip("dolfinx")
+    pytest.importorskip("dolfinx.io.gmshio")
+    code = ("import sys; sys.path.append('/usr/lib/freecad-python3/lib'); import FreeCAD, Part; "
+            f"Part.makeBox(10, 4, 3).exportBrep({str(tmp_path / 'box.brep')!r})")
+    subprocess.run(["/usr/bin/python3", "-c", code], check=True, capture_output=True, timeout=60)
+    msh = str(tmp_path / "box.msh")
+    r = run(str(tmp_path / "box.brep"), [msh], "--volume", "--size", "1", "--group", "left=Face1",
+            "--group", "right=Face2", tmp=str(tmp_path))
+    assert r["status"] == "ok"
+    # a subprocess: dolfinx's JIT and MPI stay out of the test process
+    script = tmp_path / "poisson.py"
+    script.write_text(f"""
+import numpy as np
+from mpi4py import MPI
+import dolfinx, gmsh, ufl
+from dolfinx.io import gmshio
+from dolfinx.fem.petsc import LinearProblem
+from petsc4py.PETSc import ScalarType
+gmsh.initialize(); gmsh.option.setNumber("General.Terminal", 0)
+gmsh.open({msh!r})
+tags = {{gmsh.model.getPhysicalName(d, t): t for d, t in gmsh.model.getPhysicalGroups(2)}}
+mesh, cells, facets = gmshio.model_to_mesh(gmsh.model, MPI.COMM_WORLD, 0, gdim=3)
+gmsh.finalize()
+V = dolfinx.fem.FunctionSpace(mesh, ("CG", 1))
+def bc(name, value):
+    f = facets.indices[facets.values == tags[name]]
+    return dolfinx.fem.dirichletbc(ScalarType(value), dolfinx.fem.locate_dofs_topological(V, 2, f), V), len(f)
+(b0, n0), (b1, n1) = bc("left", 0.0), bc("right", 1.0)
+u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+a = ufl.inner(ufl.grad(u), ufl.grad(v)) * ufl.dx
+L = ufl.inner(dolfinx.fem.Constant(mesh, ScalarType(0)), v) * ufl.dx
+uh = LinearProblem(a, L, bcs=[b0, b1], petsc_options={{"ksp_type": "preonly", "pc_type": "lu"}}).solve()
+x = V.tabulate_dof_coordinates()
+print(mesh.topology.index_map(3).size_local, n0, n1, np.abs(uh.x.array - x[:, 0] / 10).max())
+""")
+    p = subprocess.run(["/usr/bin/python3", str(script)], capture_output=True, text=True, timeout=600,
+                       cwd=str(tmp_path))
+    assert p.returncode == 0, p.stderr[-3000:]
+    cells, n_left, n_right, err = p.stdout.split()[-4:]
+    per_face = {f["name"]: f["triangles"] for f in r["faces"]}
+    assert int(cells) == r["volume"]["tetrahedra"]
+    assert int(n_left) == per_face["Face1"] and int(n_right) == per_face["Face2"]
+    assert float(err) < 1e-10

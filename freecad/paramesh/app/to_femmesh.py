@@ -139,6 +139,19 @@ def add_result_groups(fm, result):
     tets = _tetrahedra(result)
     if len(tets):
         _add_groups(fm, result.tetra_solid, len(faces) + 1, "Solid", "Volume")
+    # the user's groups (the groups parameter): face groups of surface elements, solid groups of
+    # tetrahedra (edge groups live in the mesh files only: the FemMesh holds no segments)
+    for name, dim, entities in getattr(result, "groups", None) or []:
+        if dim == 2:
+            ids = 1 + np.flatnonzero(np.isin(faces, entities))
+            kind = "Face"
+        elif dim == 3 and len(tets):
+            ids = len(faces) + 1 + np.flatnonzero(np.isin(np.asarray(result.tetra_solid), entities))
+            kind = "Volume"
+        else:
+            continue
+        if len(ids):
+            fm.addGroupElements(fm.addGroup(name, kind), ids.tolist())
 
 
 def _tetrahedra(result):

@@ -373,8 +373,38 @@ class ToMeshCommand(Command):
         settle(mesh)
 
 
+def _gmsh_target():
+    """The one selected FEM Gmsh mesh object, or None."""
+    doc = FreeCAD.ActiveDocument
+    if doc is None:
+        return None
+    sel = [o for o in FreeCADGui.Selection.getSelection(doc.Name)
+           if getattr(getattr(o, "Proxy", None), "Type", "") == "Fem::FemMeshGmsh"]
+    return sel[0] if len(sel) == 1 else None
+
+
+class FromGmshCommand(Command):
+    id = "ParaMesh_FromGmsh"
+    menu = "ParaMesh mesh from FEM Gmsh mesh"
+    tooltip = ("Turns the selected FEM Gmsh mesh object into a ParaMesh mesh of the same part: its sizes, "
+               "order, mesh regions (local sizes) and mesh groups (named groups) carried over; the analysis "
+               "then uses the ParaMesh mesh. Settings without a ParaMesh counterpart are listed in the "
+               "report view")
+
+    def IsActive(self):
+        return not dialog_open() and _gmsh_target() is not None
+
+    def Activated(self):
+        gmsh = _gmsh_target()
+        if gmsh is None:
+            return
+        with transaction(gmsh.Document, "ParaMesh: from FEM Gmsh mesh"):
+            FreeCADGui.addModule("freecad.paramesh.app.from_gmsh")
+            FreeCADGui.doCommand(f"_pm_obj, _pm_notes = freecad.paramesh.app.from_gmsh.from_gmsh_mesh({obj_ref(gmsh)})")
+
+
 COMMANDS = [SurfaceMeshCommand, BoundaryLayerCommand, LocalSizeCommand, QualityCommand, ExportCommand,
-            ToMeshCommand]
+            ToMeshCommand, FromGmshCommand]
 TOOLBAR = [c.id for c in COMMANDS]
 MENU = TOOLBAR
 

@@ -20,10 +20,13 @@ struct WrittenGroup {
   bool user = false;
 };
 
-/// Vertex<i> (dim 0, tag i) for each CAD vertex holding a node, Edge<i> (dim 1) for each edge
-/// holding segments, Face<i> (dim 2) for each face holding elements, Solid<i> (dim 3) for each
-/// solid holding tetrahedra (every element then has a group: readers such as meshio expect
-/// it), then the user groups: tags after the default ones of their dimension.
+/// The user groups first, tags 1, 2, ... per dimension in the order given (Gmsh numbers physical
+/// groups in definition order; a reader keeping one tag per facet, as dolfinx does, keeps the
+/// lowest: the user's). Then the default ones, each with tag k + i for entity i where k is the
+/// number of user groups of its dimension (tag = entity number without user groups):
+/// Vertex<i> (dim 0) for each CAD vertex holding a node, Edge<i> (dim 1) for each edge holding
+/// segments, Face<i> (dim 2) for each face holding elements, Solid<i> (dim 3) for each solid
+/// holding tetrahedra: every element has a group (readers such as meshio expect it).
 std::vector<WrittenGroup> writtenGroups(const SurfaceMesh& m);
 
 /// (dim, entity) -> the tags of the groups holding it, ascending.

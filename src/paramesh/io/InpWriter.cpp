@@ -211,7 +211,7 @@ void writeInp(const std::string& path, const SurfaceMesh& m) {
     if (spec > 0) layer[spec].push_back(int(k) + 1);
   }
   for (const auto& [spec, ids] : layer) {
-    out << "*ELSET, ELSET=Layer" << spec << '\n';
+    out << "*ELSET, ELSET=BoundaryLayer" << spec << '\n';
     writeList(out, ids);
   }
   for (const MeshGroup& g : m.groups) {

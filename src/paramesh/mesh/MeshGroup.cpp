@@ -52,8 +52,8 @@ std::string groupNameProblem(const std::string& name) {
     if (!(std::isalnum((unsigned char)c) || c == '_' || c == '.' || c == '-'))
       return "group name " + quoted(name) + " may hold letters, digits, _ . - only";
   const auto [kind, n] = entityName(name);
-  if (kind == "face" || kind == "edge" || kind == "vertex" || kind == "solid" || kind == "layer")
-    return "group name " + quoted(name) + " is the name of a default group (Face<i>, Edge<i>, Solid<i>, Layer<i>)";
+  if (kind == "face" || kind == "edge" || kind == "vertex" || kind == "solid" || kind == "boundarylayer")
+    return "group name " + quoted(name) + " is the name of a default group (Face<i>, Edge<i>, Vertex<i>, Solid<i>, BoundaryLayer<i>)";
   return "";
 }
 

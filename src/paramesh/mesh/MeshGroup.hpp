@@ -18,7 +18,7 @@ struct MeshGroup {
 
 /// Why name cannot name a user group, or "": it must be 1-64 characters of letters, digits and
 /// _ . - starting with a letter or _, and not a default group's name (Face<i>, Edge<i>,
-/// Vertex<i>, Solid<i>, Layer<i>: case-insensitive, as Abaqus compares set names).
+/// Vertex<i>, Solid<i>, BoundaryLayer<i>: case-insensitive, as Abaqus compares set names).
 std::string groupNameProblem(const std::string& name);
 
 /// "NAME=Face3,Face7" (or Edge<i>, Solid<i>; one kind per group) into a group; throws

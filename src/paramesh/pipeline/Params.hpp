@@ -84,7 +84,7 @@ struct MeshParams {
   int volumeOptimize = 1;
   std::vector<LocalSize> localSizes;
   std::vector<BoundaryLayerSpec> boundaryLayers;
-  /// Named groups the writers tag beside the default ones (Face<i>, Solid<i>, Layer<i>).
+  /// Named groups the writers tag beside the default ones (Face<i>, Solid<i>, BoundaryLayer<i>).
   std::vector<MeshGroup> groups;
 
   /// Throws ParameterError naming the first invalid field.

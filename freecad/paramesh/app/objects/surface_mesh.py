@@ -50,6 +50,8 @@ class SurfaceMesh(BaseProxy):
                      "ParaMesh boundary-layer objects applied to this mesh")
         add_property(obj, "App::PropertyLinkList", "LocalSizeList", GROUP,
                      "ParaMesh local-size objects applied to this mesh")
+        add_property(obj, "App::PropertyStringList", "Groups", GROUP, _tip("groups") +
+                     " One 'NAME=Face3,Face7' a line.")
         add_property(obj, "App::PropertyBool", "CreateMeshFeature", GROUP,
                      "Also keep a Mesh::Feature (triangles, one segment per CAD face) up to date", False)
         add_property(obj, "App::PropertyLink", "MeshFeature", GROUP,
@@ -75,7 +77,8 @@ class SurfaceMesh(BaseProxy):
                        max_elements=int(getattr(obj, "MaxElements", 50000000)),
                        volume=bool(getattr(obj, "Volume3D", False)),
                        volume_max_size=float(getattr(obj, "VolumeMaxSize", 0.0)) or None,
-                       volume_optimize=int(getattr(obj, "VolumeOptimize", 1)))
+                       volume_optimize=int(getattr(obj, "VolumeOptimize", 1)),
+                       groups=[g for g in getattr(obj, "Groups", []) if g.strip()])
         for child in obj.LocalSizeList:
             if hasattr(child, "Proxy") and hasattr(child.Proxy, "spec"):
                 p.local_sizes.extend(child.Proxy.spec(child))
