@@ -26,7 +26,10 @@ struct NglibResult {
 };
 
 /// Fills the closed surface (points, triangles counter-clockwise seen from outside). nglib keeps
-/// global state, so calls are serialised; its console output is silenced for the call.
+/// global state, so calls are serialised; its console output is silenced for the call. nglib
+/// lives in the plugin libparamesh_nglib.so, loaded on the first call (NglibLoader.cpp) from
+/// $PARAMESH_NGLIB_PLUGIN, else beside the executable or module holding this library, else the
+/// loader's search path; a plugin that cannot be loaded is an Error naming where it looked.
 NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
                           const NglibOptions& options);
 
@@ -34,3 +37,8 @@ NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std
 std::string nglibVersion();
 
 }  // namespace paramesh
+
+/// The plugin's entry point (NglibPlugin.cpp): fills *out as fillWithNglib returns it.
+extern "C" void paramesh_nglib_fill(const std::vector<paramesh::Vec3>* points,
+                                    const std::vector<std::array<int, 3>>* triangles,
+                                    const paramesh::NglibOptions* options, paramesh::NglibResult* out);

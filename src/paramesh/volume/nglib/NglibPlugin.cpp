@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-/// @file NglibFill.cpp
-/// nglib's volume mesher on our surface triangles (Debian's libnglib-dev, Netgen 6.2).
+/// @file NglibPlugin.cpp
+/// nglib's volume mesher on our surface triangles (Debian's libnglib-dev, Netgen 6.2): the body
+/// of the plugin libparamesh_nglib.so, loaded by fillWithNglib (NglibLoader.cpp) on first use.
+/// nglib brings Netgen's libraries, libpython and MPI: loading them only when a volume is filled
+/// spares every other run their start-up (docs/benchmark.md).
 #include "paramesh/volume/nglib/NglibFill.hpp"
 
 #include <fstream>
@@ -71,9 +74,17 @@ struct NgMesh {
 
 }  // namespace
 
-NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& triangles,
-                          const NglibOptions& options) {
-  NglibResult r;
+}  // namespace paramesh
+
+extern "C" void paramesh_nglib_fill(const std::vector<paramesh::Vec3>* pointsIn,
+                                    const std::vector<std::array<int, 3>>* trianglesIn,
+                                    const paramesh::NglibOptions* optionsIn, paramesh::NglibResult* out) {
+  using namespace paramesh;
+  const std::vector<Vec3>& points = *pointsIn;
+  const std::vector<std::array<int, 3>>& triangles = *trianglesIn;
+  const NglibOptions& options = *optionsIn;
+  NglibResult& r = *out;
+  r = NglibResult();
   std::lock_guard<std::mutex> lock(nglibMutex());
   static std::once_flag init;
   std::call_once(init, [] {
@@ -100,13 +111,13 @@ NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std
     const nglib::Ng_Result res = nglib::Ng_GenerateVolumeMesh(mesh.m, &mp);
     if (res != nglib::NG_OK) {
       r.error = "nglib could not fill the surface (result " + std::to_string(static_cast<int>(res)) + ")";
-      return r;
+      return;
     }
     const int n = static_cast<int>(points.size());
     const int np = nglib::Ng_GetNP(mesh.m), ne = nglib::Ng_GetNE(mesh.m);
     if (np < n) {
       r.error = "nglib dropped surface points (" + std::to_string(np) + " < " + std::to_string(n) + ")";
-      return r;
+      return;
     }
     for (int i = 1; i <= n; ++i) {  // the surface is ours: nglib must not have moved it
       double x[3];
@@ -114,7 +125,7 @@ NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std
       const Vec3& p = points[i - 1];
       if (x[0] != p.x || x[1] != p.y || x[2] != p.z) {
         r.error = "nglib moved surface point " + std::to_string(i - 1);
-        return r;
+        return;
       }
     }
     r.interior.reserve(np - n);
@@ -129,7 +140,7 @@ NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std
       if (nglib::Ng_GetVolumeElement(mesh.m, e, pi) != nglib::NG_TET) {
         r.error = "nglib made an element that is not a tetrahedron";
         r.tets.clear();
-        return r;
+        return;
       }
       r.tets.push_back({pi[0] - 1, pi[1] - 1, pi[2] - 1, pi[3] - 1});
     }
@@ -139,9 +150,4 @@ NglibResult fillWithNglib(const std::vector<Vec3>& points, const std::vector<std
   } catch (...) {
     r.error = "nglib failed with an unknown exception";
   }
-  return r;
 }
-
-std::string nglibVersion() { return PARAMESH_NGLIB_VERSION; }
-
-}  // namespace paramesh
