@@ -43,6 +43,8 @@ def step_handover():
     view = main_window().findChild(QtGui.QTextEdit, "Report view")
     text = view.toPlainText() if view is not None else ""
     check("the Gmsh-only setting is listed in the Report view", "Algorithm2D = Frontal" in text, text[-300:])
+    check("the replaced Gmsh mesh is hidden", not gmsh.ViewObject.Visibility)
+    box.ViewObject.Visibility = False
     FreeCADGui.ActiveDocument.ActiveView.viewIsometric()
     FreeCADGui.SendMsgToActiveView("ViewFit")
     shot_view("handover_cantilever.png")

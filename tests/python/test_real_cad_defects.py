@@ -89,3 +89,26 @@ def test_sheet_metal_54_face3_at_the_sweep_case_meshes():
     bad = [(f["name"], f.get("error")) for f in res.faces if f["status"] != "ok"]
     assert res.report["status"] == "ok" and not bad, (res.report["message"], bad)
     assert_closed_oriented(res)
+
+
+def test_bottle_thread_run_out_strip_does_not_fold_at_the_default_size():
+    """bottle.brep at its default size (diagonal / 50): Face6, a cylinder strip about 0.06 high
+    under chords of about 1.3 (their sagitta larger than the strip), had two triangles folded onto
+    each other (normals over 160 degrees apart, the audit's 4 fold edges): the nearest-face round's
+    deviation refinement put a node inside a triangle lying across the strip. A node that would
+    fold the triangles it makes is refused now (splitFolds)."""
+    res = pm.mesh_file(os.path.join(ROOT, "tests", "data", "bottle.brep"))
+    assert res.report["status"] == "ok", res.report["message"]
+    assert res.report["audit"]["passed"] and res.report["audit"]["counts"]["folds"] == 0
+    assert_closed_oriented(res)
+    # no two triangles of Face6 sharing an edge face more than 160 degrees apart
+    t = res.triangles[res.triangle_face == 6]
+    p = res.nodes[t]
+    n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    edges = {}
+    for i, tri in enumerate(t):
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            edges.setdefault((min(a, b), max(a, b)), []).append(i)
+    worst = min(float(n[u] @ n[v]) for u, v in (e for e in edges.values() if len(e) == 2))
+    assert worst > math.cos(math.radians(160)), worst

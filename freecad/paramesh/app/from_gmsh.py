@@ -107,6 +107,8 @@ def from_gmsh_mesh(gmsh_obj, name=None):
         if parent.isDerivedFrom("Fem::FemAnalysis"):
             group = [o for o in parent.Group if o != gmsh_obj]
             parent.Group = group + [obj]
+    if FreeCAD.GuiUp and gmsh_obj.ViewObject is not None:
+        gmsh_obj.ViewObject.Visibility = False  # the mesh in use is shown, not the one it replaced
     for n in notes:
         FreeCAD.Console.PrintWarning(f"{obj.Label}: {n}\n")
     doc.recompute()

@@ -98,4 +98,18 @@ inline double bestCornerCos(const TriVertex& a, const TriVertex& b, const TriVer
   return best < -1 ? 2 : best;
 }
 
+/// Whether two of the triangles (a, b, p), (b, c, p), (c, a, p) that a point p inside triangle
+/// (a, b, c) makes face more than 120 degrees apart in 3D: p would fold them onto each other.
+/// Across a strip narrower than its chords' sagitta (a thread run-out on a cylinder) every
+/// triangle lies across the surface, and a node inside one does that.
+inline bool splitFolds(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  const Vec3 n[3] = {cross(b - a, p - a), cross(c - b, p - b), cross(a - c, p - c)};
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 &x = n[i], &y = n[(i + 1) % 3];
+    const double l = norm(x) * norm(y);
+    if (l > 0 && dot(x, y) < -0.5 * l) return true;
+  }
+  return false;
+}
+
 }  // namespace paramesh

@@ -274,6 +274,8 @@ bool Optimizer::insertCentroid(int t, const Triangle& tr, double minEdge, int be
     // nor one lying on a flank but upside down (where the triangle split runs across a fold,
     // facesAway's summed normals can miss it)
     if (devRatio_ > 0 && (inverted(A, B, P) || inverted(B, D, P) || inverted(D, A, P))) return false;
+    // nor where it would fold two of them onto each other (however the triangle faces)
+    if (splitFolds(A.xyz, B.xyz, D.xyz, P.xyz)) return false;
   }
   const int v = T_.addVertex(P);
   const Triangulation::FlipTest none = [](int, int) { return false; };
