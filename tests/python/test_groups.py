@@ -266,19 +266,3 @@ print(mesh.topology.index_map(3).size_local, n0, n1, np.abs(uh.x.array - x[:, 0]
     assert int(cells) == r["volume"]["tetrahedra"]
     assert int(n_left) == per_face["Face1"] and int(n_right) == per_face["Face2"]
     assert float(err) < 1e-10
-
-
-def test_boundary_layer_group_in_msh_holds_the_layer_elements(tmp_path):
-    """A layer's elements are a surface entity of their own beside their face's, tagged with the
-    face's groups and BoundaryLayer<k>: the face groups keep the report's counts."""
-    msh = str(tmp_path / "w.msh")
-    r = run(os.path.join(DATA, "wing.brep"), [msh], "--bl-edges", "1", "--bl-first-height", "0.002",
-            "--bl-layers", "10", tmp=str(tmp_path))
-    groups = gmsh_groups(msh)
-    layer = r["boundary_layers"][0]["elements"]
-    assert layer > 0 and len(groups["BoundaryLayer1"][1]) == layer
-    faces = {f["name"]: f["triangles"] + f["quads"] for f in r["faces"]}
-    assert {n: len(el) for n, (d, el) in groups.items() if d == 2 and n.startswith("Face")} == faces
-    assert groups["BoundaryLayer1"][1] <= groups["Face1"][1] | groups["Face2"][1]
-    m = meshio.read(msh)  # meshio takes the extra entities too
-    assert sum(len(c) for c in m.cell_sets["BoundaryLayer1"] if c is not None) == layer

@@ -23,28 +23,6 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
   const bool o2 = m.order == 2;
   const std::size_t N = m.nodes.size();
 
-  // A face's boundary-layer elements form a surface entity of their own (a physical group tags
-  // whole entities): tags after the faces', one per (face, layer spec) in that order.
-  const int T = static_cast<int>(m.triangles.size());
-  auto layerOf = [&](int e) {
-    return e < T ? (m.triangleLayer.empty() ? 0 : m.triangleLayer[e]) : (m.quadLayer.empty() ? 0 : m.quadLayer[e - T]);
-  };
-  auto faceOf = [&](int e) { return e < T ? m.triangleFace[e] : m.quadFace[e - T]; };
-  std::map<std::pair<int, int>, int> layerEntity;  // (face, spec) -> surface entity tag
-  int maxFace = m.numFaces;
-  for (int f : m.triangleFace) maxFace = std::max(maxFace, f);
-  for (int f : m.quadFace) maxFace = std::max(maxFace, f);
-  for (std::size_t e = 0; e < m.triangles.size() + m.quads.size(); ++e)
-    if (layerOf(int(e)) > 0) layerEntity.emplace(std::make_pair(faceOf(int(e)), layerOf(int(e))), 0);
-  {
-    int next = maxFace;
-    for (auto& [key, tag] : layerEntity) tag = ++next;
-  }
-  auto surfEntity = [&](int e) {
-    const int l = layerOf(e);
-    return l > 0 ? layerEntity.at({faceOf(e), l}) : faceOf(e);
-  };
-
   // Entities: those claimed by nodes plus those holding elements; boxes from all their nodes.
   std::map<int, Box3> ent[4];
   std::map<int, Vec3> vertexPos;  // a point entity's coordinates: those of its first node
@@ -58,13 +36,13 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
     if (o2) b.add(m.nodes[m.segmentMid[s]]);
   }
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    Box3& b = ent[2][surfEntity(int(t))];
+    Box3& b = ent[2][m.triangleFace[t]];
     for (int v : m.triangles[t]) b.add(m.nodes[v]);
     if (o2)
       for (int v : m.triangleMid[t]) b.add(m.nodes[v]);
   }
   for (std::size_t q = 0; q < m.quads.size(); ++q) {
-    Box3& b = ent[2][surfEntity(T + int(q))];
+    Box3& b = ent[2][m.quadFace[q]];
     for (int v : m.quads[q]) b.add(m.nodes[v]);
     if (o2)
       for (int v : m.quadMid[q]) b.add(m.nodes[v]);
@@ -76,24 +54,8 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
   }
 
   // physical groups: the default ones (Face<i>, Solid<i>) and the user's
-  std::vector<WrittenGroup> groups = writtenGroups(m);
-  auto tagsOf = groupTagsByEntity(groups);
-  // BoundaryLayer<k>: the layer entities of spec k, which also carry their face's groups
-  int maxTag2 = 0;
-  for (const WrittenGroup& g : groups)
-    if (g.dim == 2) maxTag2 = std::max(maxTag2, g.tag);
-  std::map<int, int> layerGroup;  // spec -> physical tag
-  for (const auto& [key, entity] : layerEntity) {
-    auto it = layerGroup.find(key.second);
-    if (it == layerGroup.end()) {
-      it = layerGroup.emplace(key.second, maxTag2 + key.second).first;
-      groups.push_back({2, it->second, "BoundaryLayer" + std::to_string(key.second), {}, false});
-    }
-    std::vector<int> tags = tagsOf[{2, key.first}];
-    tags.push_back(it->second);
-    std::sort(tags.begin(), tags.end());
-    tagsOf[{2, entity}] = tags;
-  }
+  const std::vector<WrittenGroup> groups = writtenGroups(m);
+  const auto tagsOf = groupTagsByEntity(groups);
   TextOut out(path);
   out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
   if (!groups.empty()) {
@@ -165,7 +127,11 @@ void writeMsh41(const std::string& path, const SurfaceMesh& m) {
   auto segKey = [&](int s) { return m.segmentEdge[s]; };
   std::vector<int> segOrder = sortedBy(m.segments.size(), segKey);
   // Surface elements: index < T are triangles, index >= T quad (index - T).
-  auto surfKey = [&](int e) { return std::pair<int, int>(surfEntity(e), e < T ? 0 : 1); };
+  const int T = static_cast<int>(m.triangles.size());
+  auto surfKey = [&](int e) {
+    return e < T ? std::pair<int, int>(m.triangleFace[e], 0)
+                 : std::pair<int, int>(m.quadFace[e - T], 1);
+  };
   std::vector<int> surfOrder = sortedBy(m.triangles.size() + m.quads.size(), surfKey);
 
   std::size_t blocks = 0;
