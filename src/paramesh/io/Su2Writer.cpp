@@ -2,7 +2,7 @@
 /// @file Su2Writer.cpp
 /// The SU2 native mesh writer (SU2's "Mesh File Format (native)": NDIME, NELEM, NPOIN, NMARK;
 /// VTK element type numbers, 0-based node indices).
-#include <algorithm>
+#include <map>
 
 #include "paramesh/io/Groups.hpp"
 #include "paramesh/io/WriterSupport.hpp"
@@ -34,26 +34,32 @@ void writeSu2(const std::string& path, const SurfaceMesh& m) {
     const Vec3& p = m.nodes[i];
     out << p.x << ' ' << p.y << ' ' << p.z << ' ' << i << '\n';
   }
-  // markers: the face groups of a volume mesh, the user's edge groups of a surface mesh
+  // markers: the face groups of a volume mesh, the user's edge groups of a surface mesh; the
+  // elements bucketed by entity once (one pass over all elements per marker is quadratic with a
+  // default group per face)
   std::vector<WrittenGroup> markers;
   for (WrittenGroup& g : writtenGroups(m))
     if (g.dim == (volume ? 2 : 1)) markers.push_back(std::move(g));
+  std::map<int, std::vector<int>> byEntity;
+  if (volume)
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) byEntity[m.triangleFace[t]].push_back(int(t));
+  else
+    for (std::size_t s = 0; s < m.segments.size(); ++s) byEntity[m.segmentEdge[s]].push_back(int(s));
   out << "NMARK= " << markers.size() << '\n';
   for (const WrittenGroup& g : markers) {
-    auto in = [&](int e) { return std::binary_search(g.entities.begin(), g.entities.end(), e); };
-    out << "MARKER_TAG= " << g.name << '\n';
     std::size_t n = 0;
-    if (volume) {
-      for (std::size_t t = 0; t < m.triangles.size(); ++t) n += in(m.triangleFace[t]);
-      out << "MARKER_ELEMS= " << n << '\n';
-      for (std::size_t t = 0; t < m.triangles.size(); ++t)
-        if (in(m.triangleFace[t]))
-          out << "5 " << m.triangles[t][0] << ' ' << m.triangles[t][1] << ' ' << m.triangles[t][2] << '\n';
-    } else {
-      for (std::size_t s = 0; s < m.segments.size(); ++s) n += in(m.segmentEdge[s]);
-      out << "MARKER_ELEMS= " << n << '\n';
-      for (std::size_t s = 0; s < m.segments.size(); ++s)
-        if (in(m.segmentEdge[s])) out << "3 " << m.segments[s][0] << ' ' << m.segments[s][1] << '\n';
+    for (int e : g.entities)
+      if (const auto it = byEntity.find(e); it != byEntity.end()) n += it->second.size();
+    out << "MARKER_TAG= " << g.name << "\nMARKER_ELEMS= " << n << '\n';
+    for (int e : g.entities) {
+      const auto it = byEntity.find(e);
+      if (it == byEntity.end()) continue;
+      for (int k : it->second) {
+        if (volume)
+          out << "5 " << m.triangles[k][0] << ' ' << m.triangles[k][1] << ' ' << m.triangles[k][2] << '\n';
+        else
+          out << "3 " << m.segments[k][0] << ' ' << m.segments[k][1] << '\n';
+      }
     }
   }
   out.commit();
