@@ -187,6 +187,7 @@ struct FaceData {
   std::vector<Wire> wires;
   std::vector<std::vector<TopoDS_Edge>> oriented;  // oriented edge per use, as explored from face
   int solid = -1;
+  std::string surfaceError;  // why OpenCASCADE cannot build the face's surface adaptor (probeSurface)
   mutable std::vector<std::vector<PCurveSlot>> pcurves;  // per wire and use (OccModel::pcurveMutex_)
 };
 
@@ -248,6 +249,7 @@ class OccModel final : public IGeometryModel {
         fd.oriented.push_back(std::move(oriented));
       }
     }
+    for (FaceData& fd : faceData_) fd.surfaceError = probeSurface(fd.face);
     Bnd_Box bb;
     BRepBndLib::Add(shape_, bb);
     if (!bb.IsVoid()) {
@@ -295,6 +297,9 @@ class OccModel final : public IGeometryModel {
   const std::vector<int>& edgeFaces(int e) const override { return edgeFaces_[e]; }
 
   std::unique_ptr<ISurface> makeSurface(int f) const override {
+    if (!faceData_[f].surfaceError.empty())
+      throw InputError("Face" + std::to_string(f + 1) + ": OpenCASCADE cannot evaluate its surface (" +
+                       faceData_[f].surfaceError + ")");
     try {
       return std::make_unique<OccSurface>(faceData_[f].face);
     } catch (const Standard_Failure& x) {
@@ -347,6 +352,21 @@ class OccModel final : public IGeometryModel {
     return std::string(x.DynamicType()->Name()) + ": " + x.GetMessageString();
   }
   TopoDS_Edge edge(int e) const { return TopoDS::Edge(edges_(e + 1).Oriented(TopAbs_FORWARD)); }
+  /// Builds the face's surface adaptor once while the model loads, so that what its parameter
+  /// bounds compute (BRepTools::UVBounds projects p-curve-less edges on a plane, where OCC 7.6
+  /// dereferences a failed approximation of a damaged curve: fuzz_brep) fails here, under the
+  /// loader's OCC_CATCH_SIGNALS (a Standard_Failure when signals are guarded), and not later in
+  /// the mesher. Returns "" or what failed.
+  static std::string probeSurface(const TopoDS_Face& face) {
+    try {
+      OCC_CATCH_SIGNALS
+      BRepAdaptor_Surface probe(face, Standard_True);
+      (void)probe;
+    } catch (const Standard_Failure& x) {
+      return describe(x);
+    }
+    return {};
+  }
 
   TopoDS_Shape shape_;
   std::string source_;
