@@ -32,7 +32,7 @@ struct EdgeTable {
   std::vector<Side> sides;
 };
 
-EdgeTable buildTable(const SurfaceMesh& m, const std::vector<char>& valid) {
+EdgeTable buildTable(const SurfaceMesh& m, const std::vector<char>& valid, int threads) {
   const int N = (int)m.nodes.size(), T = (int)m.triangles.size(), Q = (int)m.quads.size();
   EdgeTable tab;
   tab.start.assign(N + 1, 0);
@@ -51,9 +51,11 @@ EdgeTable buildTable(const SurfaceMesh& m, const std::vector<char>& valid) {
   tab.sides.resize(tab.start[N]);
   std::vector<int> fill(tab.start.begin(), tab.start.end() - 1);
   each([&](int a, int b, int face, int elem) { tab.sides[fill[std::min(a, b)]++] = {std::max(a, b), face, elem, a < b}; });
-  for (int i = 0; i < N; ++i)
-    std::sort(tab.sides.begin() + tab.start[i], tab.sides.begin() + tab.start[i + 1],
-              [](const Side& x, const Side& y) { return x.hi != y.hi ? x.hi < y.hi : x.face < y.face; });
+  auditChunks(N, threads, [&](int begin, int end, int) {  // rows apart: the same table for any count
+    for (int i = begin; i < end; ++i)
+      std::sort(tab.sides.begin() + tab.start[i], tab.sides.begin() + tab.start[i + 1],
+                [](const Side& x, const Side& y) { return x.hi != y.hi ? x.hi < y.hi : x.face < y.face; });
+  });
   return tab;
 }
 
@@ -123,17 +125,36 @@ std::array<int, 4> cornerSet(const SurfaceMesh& m, int e) {
 }
 
 /// The whole audit of edge use, in one pass over the table's groups (one group per mesh edge).
+/// Adds w's count, entities and (when into had none) first place to into.
+void absorb(Where& into, const Where& w) {
+  if (!w.count) return;
+  if (!into.count) into.first = w.first;
+  into.count += w.count;
+  into.faces.insert(into.faces.end(), w.faces.begin(), w.faces.end());
+  into.edges.insert(into.edges.end(), w.edges.begin(), w.edges.end());
+  into.solids.insert(into.solids.end(), w.solids.begin(), w.solids.end());
+}
+
+/// The checks on each mesh edge's group of uses, over one range of table rows.
 struct EdgePass {
   const AuditInput& in;
   const SurfaceMesh& m;
-  std::vector<int> cadUses;
-  std::vector<std::vector<std::pair<int, bool>>> solidsOf;  ///< per face: (checked solid, reversed)
+  const std::vector<int>& cadUses;
+  const std::vector<std::vector<std::pair<int, bool>>>& solidsOf;  ///< per face: (checked solid, reversed)
   double cosFold;
   std::vector<int> bad;  ///< the folded elements
   std::vector<std::unique_ptr<ISurface>> surf;  ///< per face, made when a fold is judged
   Where holes, overFace, misFace, nonManifold, folds, duplicates, open, over, misoriented;
 
   bool copy(int f) const { return !in.copyFace.empty() && in.copyFace[f]; }
+
+  /// The findings of a pass over later rows appended to these.
+  void absorb(const EdgePass& o) {
+    bad.insert(bad.end(), o.bad.begin(), o.bad.end());
+    for (auto w : {&EdgePass::holes, &EdgePass::overFace, &EdgePass::misFace, &EdgePass::nonManifold, &EdgePass::folds,
+                   &EdgePass::duplicates, &EdgePass::open, &EdgePass::over, &EdgePass::misoriented})
+      paramesh::absorb(this->*w, o.*w);
+  }
 
   void group(int lo, const Side* s, int n) {
     const Vec3 mid = 0.5 * (m.nodes[lo] + m.nodes[s[0].hi]);
@@ -265,8 +286,14 @@ Vec3 elementNormal(const SurfaceMesh& m, int e) {
 void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
   const IGeometryModel& g = in.model;
   const SurfaceMesh& m = in.mesh;
-  EdgePass pass{in, m, cadEdgeUses(g, in.edgeRep), std::vector<std::vector<std::pair<int, bool>>>(g.numFaces()),
-                std::cos(foldAngleDeg * kPi / 180.0), {}, std::vector<std::unique_ptr<ISurface>>(g.numFaces()), {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  const std::vector<int> cadUses = cadEdgeUses(g, in.edgeRep);
+  std::vector<std::vector<std::pair<int, bool>>> solidsOf(g.numFaces());
+  const double cosFold = std::cos(foldAngleDeg * kPi / 180.0);
+  auto newPass = [&] {
+    return std::make_unique<EdgePass>(EdgePass{in, m, cadUses, solidsOf, cosFold, {},
+                                               std::vector<std::unique_ptr<ISurface>>(g.numFaces()), {}, {}, {}, {}, {},
+                                               {}, {}, {}, {}});
+  };
   const std::vector<char> valid = validEntries(g, m, r);
   std::vector<char> has(g.numFaces(), 0);
   const int T = (int)m.triangles.size();
@@ -288,16 +315,27 @@ void auditEdgeUse(const AuditInput& in, double foldAngleDeg, AuditResult& r) {
       continue;
     }
     ++r.solidsChecked;
-    for (const SolidFace& sf : faces) pass.solidsOf[sf.face].emplace_back(s, sf.reversed);
+    for (const SolidFace& sf : faces) solidsOf[sf.face].emplace_back(s, sf.reversed);
   }
-  const EdgeTable tab = buildTable(m, valid);
-  for (int lo = 0; lo + 1 < (int)tab.start.size(); ++lo)
-    for (int a = tab.start[lo], end = tab.start[lo + 1]; a < end;) {
-      int b = a;
-      while (b < end && tab.sides[b].hi == tab.sides[a].hi) ++b;
-      pass.group(lo, &tab.sides[a], b - a);
-      a = b;
-    }
+  const EdgeTable tab = buildTable(m, valid, in.threads);
+  // rows in fixed chunks, each with its own findings, appended in row order: the outcome does
+  // not depend on the thread count
+  const int N = (int)tab.start.size() - 1;
+  std::vector<std::unique_ptr<EdgePass>> parts((N + kAuditChunk - 1) / kAuditChunk);
+  auditChunks(N, in.threads, [&](int begin, int end, int chunk) {
+    parts[chunk] = newPass();
+    EdgePass& part = *parts[chunk];
+    for (int lo = begin; lo < end; ++lo)
+      for (int a = tab.start[lo], e = tab.start[lo + 1]; a < e;) {
+        int b = a;
+        while (b < e && tab.sides[b].hi == tab.sides[a].hi) ++b;
+        part.group(lo, &tab.sides[a], b - a);
+        a = b;
+      }
+  });
+  const std::unique_ptr<EdgePass> all = newPass();
+  EdgePass& pass = *all;
+  for (const auto& part : parts) pass.absorb(*part);
   r.badElements.insert(r.badElements.end(), pass.bad.begin(), pass.bad.end());
   tally(r, r.openFaceEdges, "mesh edges inside a face used by one element (a hole in the face)", pass.holes);
   tally(r, r.faceOverusedEdges, "mesh edges used by more than two elements of one face", pass.overFace);

@@ -6,6 +6,7 @@
 /// what it reads and writes. Mesher::run calls the stages in order.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -248,7 +249,9 @@ struct MeshContext {
   /// S_u x S_v (the two faces' parametrisations run opposite).
   bool copyAgainstSurface(int f, const FaceMeshResult& r, int base) const;
   /// Face f's result appended to the mesh (oriented, numbered) and its report counts.
-  void assembleFace(int f, FaceMeshResult& r);
+  /// Assembly: every face's result into mesh, in face order (assemble/Assemble.cpp).
+  void assembleFaces(std::vector<FaceMeshResult>& results);
+  void assembleFace(int f, const FaceMeshResult& r, int tri0, int quad0, bool rev, std::vector<OffSurfaceTriangle>& off);
   /// The round's results kept for the next nearest-face round (faces it leaves unchanged are reused).
   void keepForNextRound(std::vector<FaceMeshResult>&& results);
 
@@ -318,6 +321,13 @@ struct MeshContext {
   /// surface mends them (audit/Repair.hpp). Writes mesh, triUv, quadUv, repairedNodes.
   void repairSurface();
   int repairedNodes = 0;
+  /// The repair pass's element and edge-use findings and the digest of the mesh they were made
+  /// on (audit/MeshDigest.hpp): the final audit reuses them when the mesh is unchanged.
+  struct ElementAudit {
+    bool valid = false;
+    uint64_t digest = 0;
+    AuditResult result;
+  } elementAudit;
   /// The finished mesh audited (audit/MeshAudit.hpp): report.audit; a finding makes an ok run
   /// degraded, naming the faces and edges. Reads mesh, triUv, quadUv, faceStage.copyOf.
   void audit();

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file Assemble.cpp
-/// Assembly stage: each face's result appended to the one mesh in face order (deterministic),
-/// its local nodes numbered, reversed faces flipped so every element is oriented with the
-/// shape's outward normal; the face's report counts filled; the round kept for the next
+/// Assembly stage: each face's result placed in the one mesh in face order (deterministic: the
+/// slots are counted first, then the faces fill theirs in parallel), its local nodes numbered,
+/// reversed faces flipped so every element is oriented with the shape's outward normal; the face's report counts filled; the round kept for the next
 /// nearest-face round. Reads the face results, model (orientation); writes mesh, triUv, quadUv,
 /// offSurface, triDeviation, report.faces, rounds.previous.
 #include <algorithm>
@@ -14,32 +14,89 @@
 
 #include "paramesh/pipeline/MeshContext.hpp"
 #include "paramesh/pipeline/Tuning.hpp"
+#include "paramesh/util/Parallel.hpp"
 
 namespace paramesh {
 
 using namespace tuning;
 
-void MeshContext::assembleFace(int f, FaceMeshResult& r) {
-  FaceReport& fr = report.faces[f];
-  if (!fr.ok) {
-    log.warn("Face" + std::to_string(f + 1) + " failed: " + fr.error);
-    return;
+void MeshContext::assembleFaces(std::vector<FaceMeshResult>& results) {
+  const int nf = model.numFaces();
+  faceStage.nodeBase.assign(nf, 0);
+  // where each face's nodes and elements go: the face order fixes the numbering (deterministic)
+  struct Slot {
+    int node = -1, tri = 0, quad = 0;
+  };
+  std::vector<Slot> at(nf);
+  int N = (int)mesh.nodes.size(), T = (int)mesh.triangles.size(), Q = (int)mesh.quads.size();
+  bool any = false;
+  for (int f = 0; f < nf; ++f) {
+    const FaceReport& fr = report.faces[f];
+    if (!fr.ok) {
+      log.warn("Face" + std::to_string(f + 1) + " failed: " + fr.error);
+      continue;
+    }
+    any = true;
+    const FaceMeshResult& r = results[f];
+    const int src = f < (int)faceStage.copyOf.size() ? faceStage.copyOf[f] : -1;
+    // a coincident copy's local nodes are its source face's (assembled before it)
+    faceStage.nodeBase[f] = src >= 0 ? faceStage.nodeBase[src] : N;
+    at[f] = {N, T, Q};
+    N += (int)r.newXyz.size();
+    T += (int)r.tris.size();
+    Q += (int)r.quads.size();
   }
-  const int src = f < (int)faceStage.copyOf.size() ? faceStage.copyOf[f] : -1;
-  // a coincident copy's local nodes are its source face's (assembled before it)
-  const int base = src >= 0 ? faceStage.nodeBase[src] : (int)mesh.nodes.size();
-  faceStage.nodeBase[f] = base;
-  for (size_t k = 0; k < r.newXyz.size(); ++k) mesh.addNode(r.newXyz[k], NodeKind::Face, f + 1, r.newUv[k]);
-  triDeviation.resize(mesh.triangles.size() + r.tris.size(), 0.0);
+  mesh.nodes.resize(N);
+  mesh.nodeKind.resize(N, NodeKind::Face);
+  mesh.nodeEntity.resize(N, 0);
+  mesh.nodeParam.resize(N);
+  mesh.triangles.resize(T);
+  mesh.triangleFace.resize(T, 0);
+  mesh.triangleLayer.resize(T, 0);
+  triUv.resize(T);
+  mesh.quads.resize(Q);
+  mesh.quadFace.resize(Q, 0);
+  mesh.quadLayer.resize(Q, 0);
+  quadUv.resize(Q);
+  if (any) triDeviation.resize(T, 0.0);
+  parallelFor(nf, threads, [&](int f) {
+    if (at[f].node < 0) return;
+    const FaceMeshResult& r = results[f];
+    for (size_t k = 0; k < r.newXyz.size(); ++k) {
+      const size_t i = at[f].node + k;
+      mesh.nodes[i] = r.newXyz[k];
+      mesh.nodeKind[i] = NodeKind::Face;
+      mesh.nodeEntity[i] = f + 1;
+      mesh.nodeParam[i] = r.newUv[k];
+    }
+  });
+  // orientation: a copy's against its source's nodes, all written now
+  std::vector<char> rev(nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    if (at[f].node < 0) continue;
+    rev[f] = model.faceReversed(f);
+    const int src = f < (int)faceStage.copyOf.size() ? faceStage.copyOf[f] : -1;
+    if (src >= 0) rev[f] = rev[f] != copyAgainstSurface(f, results[f], faceStage.nodeBase[f]);
+  }
+  std::vector<std::vector<OffSurfaceTriangle>> off(nf);
+  parallelFor(nf, threads, [&](int f) {
+    if (at[f].node < 0) return;
+    assembleFace(f, results[f], at[f].tri, at[f].quad, rev[f], off[f]);
+  });
+  for (const auto& o : off) offSurface.insert(offSurface.end(), o.begin(), o.end());
+}
+
+void MeshContext::assembleFace(int f, const FaceMeshResult& r, int tri0, int quad0, bool rev,
+                               std::vector<OffSurfaceTriangle>& off) {
+  FaceReport& fr = report.faces[f];
+  const int base = faceStage.nodeBase[f];
   for (const auto& od : r.offSurface) {
-    const int t = (int)mesh.triangles.size() + od.first;
+    const int t = tri0 + od.first;
     triDeviation[t] = od.second;
     // deeper than 4.5 % of the mesh size; faces with boundary layers keep their rows as they are
     if (r.triLayer.empty() && od.second > kOffSurfaceCandidate * std::min(p.size, p.maxSize))
-      offSurface.push_back({t, od.second});
+      off.push_back({t, od.second});
   }
-  bool rev = model.faceReversed(f);
-  if (src >= 0) rev = rev != copyAgainstSurface(f, r, base);
   for (size_t k = 0; k < r.tris.size(); ++k) {
     auto t = r.tris[k];
     auto uv = r.triUv[k];
@@ -49,10 +106,11 @@ void MeshContext::assembleFace(int f, FaceMeshResult& r) {
       std::swap(t[1], t[2]);
       std::swap(uv[1], uv[2]);
     }
-    mesh.triangles.push_back(t);
-    mesh.triangleFace.push_back(f + 1);
-    mesh.triangleLayer.push_back(k < r.triLayer.size() ? r.triLayer[k] : 0);
-    triUv.push_back(uv);
+    const size_t i = tri0 + k;
+    mesh.triangles[i] = t;
+    mesh.triangleFace[i] = f + 1;
+    mesh.triangleLayer[i] = k < r.triLayer.size() ? r.triLayer[k] : 0;
+    triUv[i] = uv;
   }
   for (size_t k = 0; k < r.quads.size(); ++k) {
     auto q = r.quads[k];
@@ -63,10 +121,11 @@ void MeshContext::assembleFace(int f, FaceMeshResult& r) {
       std::swap(q[1], q[3]);
       std::swap(uv[1], uv[3]);
     }
-    mesh.quads.push_back(q);
-    mesh.quadFace.push_back(f + 1);
-    mesh.quadLayer.push_back(k < r.quadLayer.size() ? r.quadLayer[k] : 0);
-    quadUv.push_back(uv);
+    const size_t i = quad0 + k;
+    mesh.quads[i] = q;
+    mesh.quadFace[i] = f + 1;
+    mesh.quadLayer[i] = k < r.quadLayer.size() ? r.quadLayer[k] : 0;
+    quadUv[i] = uv;
   }
   fr.triangles = (int)r.tris.size();
   fr.quads = (int)r.quads.size();

@@ -153,8 +153,7 @@ void MeshContext::meshFaces() {
   logStrayPcurves();
   // assemble in face order (deterministic)
   Timer ta;
-  faceStage.nodeBase.assign(nf, 0);
-  for (int f = 0; f < nf; ++f) assembleFace(f, results[f]);
+  assembleFaces(results);
   stage("assemble", ta.seconds());
   if (fo.reportOffSurface && blLaws.empty()) keepForNextRound(std::move(results));
 }
