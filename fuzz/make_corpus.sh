@@ -3,6 +3,7 @@
 #   OUT_DIR/step, iges, brep: OpenCASCADE primitives and up to 6 single faces of each real model
 #     (fuzz_make_seeds), plus the real models of tests/data and ../shared/models themselves when
 #     they fit the harness's -max_len (fuzz.sh: 256 kB; the IGES models are 1.2 and 3.4 MB)
+#   OUT_DIR/stl: fuzz/seeds/stl/*.stl (small binary and ASCII STLs)
 #   OUT_DIR/params_json: fuzz/seeds/params/*.json and examples/*.json
 #   OUT_DIR/geometry: 32 fixed pseudo-random byte strings (Python's random, seed 1)
 set -euo pipefail
@@ -14,7 +15,7 @@ MAXLEN="${PARAMESH_FUZZ_MAX_LEN:-262144}"
 # 1 MB: their faces' kinds are among the other models' faces, written in all three formats)
 FACE_MAX="${PARAMESH_FUZZ_FACE_MODEL_MAX:-100000000}"
 rm -rf "$OUT"
-mkdir -p "$OUT"/{step,iges,brep,params_json,geometry}
+mkdir -p "$OUT"/{step,iges,brep,stl,params_json,geometry}
 models=()
 for d in "$ROOT/tests/data" "$ROOT/../shared/models"; do
   [ -d "$d" ] || continue
@@ -38,6 +39,7 @@ for f in "${models[@]}"; do
   esac
 done
 cp "$ROOT"/fuzz/seeds/params/*.json "$ROOT"/examples/*.json "$OUT/params_json/"
+cp "$ROOT"/fuzz/seeds/stl/*.stl "$OUT/stl/"
 /usr/bin/python3 - "$OUT/geometry" <<'PY'
 import os, random, sys
 rng = random.Random(1)
@@ -45,6 +47,6 @@ for i in range(32):
     n = rng.choice([16, 32, 64, 128, 256])
     open(os.path.join(sys.argv[1], 'g%02d' % i), 'wb').write(bytes(rng.randrange(256) for _ in range(n)))
 PY
-for d in step iges brep params_json geometry; do
+for d in step iges brep stl params_json geometry; do
   printf '%s: %s files, %s bytes\n' "$d" "$(ls "$OUT/$d" | wc -l)" "$(du -sb "$OUT/$d" | cut -f1)"
 done

@@ -8,7 +8,7 @@
 #   scripts/fuzz.sh replay                             every file of fuzz/regressions/NAME/ through its harness
 #   scripts/fuzz.sh ci                                 build, replay, then a short run of each harness (CI)
 #
-# NAME: step, iges, brep (the readers), params_json (the --params front end), geometry (OpenCASCADE
+# NAME: step, iges, brep (the readers), stl (triangulated input: read, repair, features), params_json (the --params front end), geometry (OpenCASCADE
 # shapes meshed with random parameters). The build directory is the one of scripts/sanitize.sh
 # (build-asan/: one sanitized build of the library serves the C++ tests, the CLI and the
 # harnesses). New inputs go to build-asan/corpus/NAME (kept between runs), crashes to
@@ -19,7 +19,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$ROOT"
 BUILD="${PARAMESH_FUZZ_BUILD:-$ROOT/build-asan}"
-NAMES=(step iges brep params_json geometry)
+NAMES=(step iges brep stl params_json geometry)
 
 # LeakSanitizer: OpenCASCADE and TBB keep allocations in static caches for the process' life
 # (fuzz/lsan.supp names their libraries); leaks in ParaMesh's own code are still reported.
@@ -44,7 +44,7 @@ configure() {
 
 build() {
   configure
-  cmake --build "$BUILD" -j"$(nproc)" --target fuzz_step fuzz_iges fuzz_brep fuzz_params_json fuzz_geometry fuzz_make_seeds
+  cmake --build "$BUILD" -j"$(nproc)" --target fuzz_step fuzz_iges fuzz_brep fuzz_stl fuzz_params_json fuzz_geometry fuzz_make_seeds
 }
 
 corpus() { bash fuzz/make_corpus.sh "$BUILD" "$BUILD/seeds"; }
@@ -55,6 +55,7 @@ opts() {
     step) echo "-max_len=262144 -timeout=30 -dict=$ROOT/fuzz/dict/step.dict";;
     iges) echo "-max_len=262144 -timeout=30";;
     brep) echo "-max_len=262144 -timeout=30 -dict=$ROOT/fuzz/dict/brep.dict";;
+    stl) echo "-max_len=131072 -timeout=30 -dict=$ROOT/fuzz/dict/stl.dict";;
     params_json) echo "-max_len=8192 -timeout=10 -dict=$ROOT/fuzz/dict/params_json.dict";;
     geometry) echo "-max_len=512 -timeout=120";;
     *) echo "scripts/fuzz.sh: unknown harness '$1' (${NAMES[*]})" >&2; exit 2;;
@@ -136,7 +137,7 @@ case "${1:-}" in
     # PARAMESH_FUZZ_CI_STRICT=1 (docs/fuzzing.md: what gates CI is the replay above)
     findings=0
     for name in "${NAMES[@]}"; do
-      case "$name" in geometry) secs=40;; params_json) secs=10;; *) secs=20;; esac
+      case "$name" in geometry) secs=40;; params_json|stl) secs=10;; *) secs=20;; esac
       rm -rf "$BUILD/corpus-ci/$name"
       mkdir -p "$BUILD/corpus-ci/$name" "$BUILD/artifacts/$name"
       log="$BUILD/fuzz-ci-$name.log"

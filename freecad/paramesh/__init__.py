@@ -36,7 +36,7 @@ def resource_path(*parts):
 
 from .core.params import MeshParams, BoundaryLayer, LocalSize  # noqa: E402
 from .core.api import (mesh_shape, mesh_file, mesh_brep, MeshResult, ParaMeshError, ParameterError,  # noqa: E402
-                       InputError, Cancelled, MeshJob, propose_leading_edges)
+                       InputError, Cancelled, MeshJob, propose_leading_edges, discrete_features)
 
 
 def make_fem_mesh(doc, part_object, analysis=None, **params):

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "paramesh/geom/discrete/DiscreteInput.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/io/MeshWriters.hpp"
 #include "paramesh/io/PngRender.hpp"
@@ -29,6 +30,8 @@ const char* kUsage =
     "usage:\n"
     "  paramesh mesh MODEL -o OUT [-o OUT2 ...] [options]   mesh a STEP/IGES/BREP model\n"
     "  paramesh info MODEL                                  list faces and edges\n"
+    "  paramesh info MESH.stl|.obj [--feature-angle DEG]    triangulated input: its repairs, and the faces,\n"
+    "                                                       feature edges and corners found in it (default 40)\n"
     "  paramesh --version                                   ParaMesh's, OpenCASCADE's and nglib's versions\n"
     "\n"
     "mesh options:\n"
@@ -162,6 +165,23 @@ class ProgressLine {
 
 int cmdInfo(int argc, char** argv) {
   if (argc < 3) die(1, "info: missing MODEL");
+  if (isTriangleFile(argv[2])) {  // triangulated input: what the discrete backend finds in it
+    double angle = 40.0;
+    for (int i = 3; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--feature-angle" && i + 1 < argc) angle = parseNumber(a, argv[++i]);
+      else die(1, "info: unknown option '" + a + "' (STL/OBJ input takes --feature-angle DEG)");
+    }
+    try {
+      OccReaderSignalGuard guard;
+      for (const std::string& line : describeDiscrete(loadDiscrete(argv[2], angle))) std::printf("%s\n", line.c_str());
+    } catch (const ParameterError& e) {
+      die(1, e.what());
+    } catch (const Error& e) {
+      die(2, e.what());
+    }
+    return 0;
+  }
   try {
     std::unique_ptr<IGeometryModel> m;
     {

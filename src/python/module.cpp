@@ -14,6 +14,7 @@
 #include <memory>
 
 #include "paramesh/algo/FeatureDetect.hpp"
+#include "paramesh/geom/discrete/DiscreteInput.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/io/MeshWriters.hpp"
@@ -397,6 +398,73 @@ void bindMesher(py::module_& mod) {
       .def("cancel", &PyMesher::cancel, "Requests cancellation (thread-safe).");
 }
 
+/// The discrete backend's first stages on a file or on arrays: repairs, faces, edges, vertices.
+py::dict discreteFeatures(const std::string& path, py::object points, py::object triangles, double angle) {
+  DiscreteInput d;
+  if (!path.empty()) {
+    OccReaderSignalGuard guard;
+    d = loadDiscrete(path, angle);
+  } else {
+    const auto P = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
+    const auto T = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(triangles);
+    if (!P || P.ndim() != 2 || P.shape(1) != 3) throw ParameterError("points must be an (N, 3) array");
+    if (!T || T.ndim() != 2 || T.shape(1) != 3) throw ParameterError("triangles must be an (M, 3) array of indices");
+    TriangleSoup soup;
+    soup.source = "arrays";
+    for (py::ssize_t i = 0; i < P.shape(0); ++i) soup.points.push_back({P.at(i, 0), P.at(i, 1), P.at(i, 2)});
+    for (py::ssize_t i = 0; i < T.shape(0); ++i) {
+      std::array<int, 3> t;
+      for (int k = 0; k < 3; ++k) {
+        const long long v = T.at(i, k);
+        t[k] = v < 0 || v >= (long long)soup.points.size() ? -1 : (int)v;  // dropped by the repair, counted
+      }
+      soup.triangles.push_back(t);
+    }
+    d = discreteFromArrays(std::move(soup), angle);
+  }
+  py::dict out;
+  std::vector<double> xyz;
+  for (const Vec3& p : d.mesh.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+  out["points"] = owned(std::move(xyz), {(py::ssize_t)d.mesh.points.size(), 3});
+  std::vector<int> tri;
+  for (const auto& t : d.mesh.triangles) tri.insert(tri.end(), t.begin(), t.end());
+  out["triangles"] = owned(std::move(tri), {(py::ssize_t)d.mesh.triangles.size(), 3});
+  out["triangle_face"] = owned(std::vector<int>(d.graph.triFace), {(py::ssize_t)d.graph.triFace.size()});
+  py::list edges;
+  for (const auto& c : d.graph.edges) {
+    py::dict e;
+    e["nodes"] = c.nodes;
+    e["vertices"] = py::make_tuple(c.v0, c.v1);
+    e["faces"] = c.faces;
+    edges.append(e);
+  }
+  out["edges"] = edges;
+  out["vertex_nodes"] = d.graph.vertexNode;
+  py::list loops;
+  for (const auto& f : d.graph.faceLoops) loops.append(py::cast(f));
+  out["face_loops"] = loops;
+  const RepairReport& r = d.repair;
+  py::dict rep;
+  rep["input_points"] = r.inputPoints;
+  rep["input_triangles"] = r.inputTriangles;
+  rep["merged_vertices"] = r.mergedVertices;
+  rep["non_finite_facets"] = r.nonFiniteFacets;
+  rep["degenerate_facets"] = r.degenerateFacets;
+  rep["duplicate_facets"] = r.duplicateFacets;
+  rep["flipped_facets"] = r.flippedFacets;
+  rep["pieces"] = r.pieces;
+  rep["closed_pieces"] = r.closedPieces;
+  rep["non_manifold_edges"] = r.nonManifoldEdges;
+  rep["boundary_edges"] = r.boundaryEdges;
+  rep["holes"] = r.holes;
+  rep["unorientable_pieces"] = r.unorientablePieces;
+  rep["tolerance"] = r.tolerance;
+  rep["lines"] = r.lines();
+  out["repair"] = rep;
+  out["description"] = describeDiscrete(d);
+  return out;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_native, mod) {
@@ -407,4 +475,8 @@ PYBIND11_MODULE(_native, mod) {
   bindModel(mod);
   bindResult(mod);
   bindMesher(mod);
+  mod.def("discrete_features", &discreteFeatures, py::arg("path"), py::arg("points") = py::none(),
+          py::arg("triangles") = py::none(), py::arg("feature_angle") = 40.0,
+          "Triangulated input (an STL/OBJ path, or points and triangles when path is ''): repaired, "
+          "split into faces, feature edges and corners.");
 }

@@ -197,6 +197,22 @@ def propose_leading_edges(shape_or_path):
     return _load(shape_or_path).propose_leading_edges()
 
 
+def discrete_features(source, feature_angle=40.0):
+    """What the discrete backend finds in triangulated input: an STL/OBJ path, (points,
+    triangles) arrays or a FreeCAD Mesh.Mesh. Returns a dict: points, triangles (repaired),
+    triangle_face (0-based face per triangle), edges [{nodes, vertices, faces}], vertex_nodes,
+    face_loops, repair (counts, tolerance, lines), description (`paramesh info`'s lines)."""
+    _require_native()
+    if isinstance(source, (str, os.PathLike)):
+        return _native.discrete_features(os.fspath(source), feature_angle=feature_angle)
+    if hasattr(source, "Topology"):  # a FreeCAD Mesh.Mesh: (points, facets)
+        pts, facets = source.Topology
+        source = (np.array([[p.x, p.y, p.z] for p in pts], dtype=float), np.array(facets, dtype=np.int64))
+    points, triangles = source
+    return _native.discrete_features("", np.asarray(points, dtype=float), np.asarray(triangles, dtype=np.int64),
+                                     feature_angle=feature_angle)
+
+
 def mesh_file(path, **params):
     """Meshes a STEP/IGES/BREP file."""
     return mesh_shape(os.fspath(path), **params)

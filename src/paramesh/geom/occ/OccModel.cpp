@@ -596,6 +596,9 @@ TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext,
 
 TopoDS_Shape readShape(const std::string& path, std::vector<std::string>& warnings) {
   const std::string ext = lowerExt(path);
+  if (ext == "stl" || ext == "obj")
+    throw InputError("'" + path + "' is triangulated input: remeshing it is not built yet; `paramesh info " + path +
+                     "` (Python: discrete_features) shows the faces, feature edges and repairs found in it");
   if (ext != "step" && ext != "stp" && ext != "iges" && ext != "igs" && ext != "brep" && ext != "brp")
     throw InputError("unknown CAD format '." + ext + "' of '" + path +
                      "' (expected .step/.stp, .iges/.igs or .brep/.brp)");
