@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "paramesh/geom/discrete/DiscreteInput.hpp"
+#include "paramesh/geom/discrete/DiscreteModel.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/io/MeshWriters.hpp"
 #include "paramesh/io/PngRender.hpp"
@@ -28,13 +29,16 @@ namespace {
 
 const char* kUsage =
     "usage:\n"
-    "  paramesh mesh MODEL -o OUT [-o OUT2 ...] [options]   mesh a STEP/IGES/BREP model\n"
+    "  paramesh mesh MODEL -o OUT [-o OUT2 ...] [options]   mesh a STEP/IGES/BREP model, or remesh\n"
+    "                                                       triangulated input (STL/OBJ)\n"
     "  paramesh info MODEL                                  list faces and edges\n"
     "  paramesh info MESH.stl|.obj [--feature-angle DEG]    triangulated input: its repairs, and the faces,\n"
     "                                                       feature edges and corners found in it (default 40)\n"
     "  paramesh --version                                   ParaMesh's, OpenCASCADE's and nglib's versions\n"
     "\n"
     "mesh options:\n"
+    "  --feature-angle DEG   STL/OBJ input: facets meeting at more than DEG are split by a\n"
+    "                        feature edge the mesh keeps (default 40)\n"
     "  --size H              target element size, > 0 (default: bounding-box diagonal / 50)\n"
     "  --min-size H          smallest size any size source may ask for (default: size/100;\n"
     "                        size/1000 with --curvature-angle or --max-deviation); when given,\n"
@@ -217,6 +221,7 @@ int cmdMesh(int argc, char** argv) {
   BoundaryLayerSpec bl;
   bool haveBl = false;
   std::string paramsFile;
+  double featureAngle = 40.0;  // triangulated input: dihedral angle of a feature edge
   for (int i = 2; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> const char* {
@@ -224,6 +229,7 @@ int cmdMesh(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "-o" || a == "--output") outs.push_back(next());
+    else if (a == "--feature-angle") featureAngle = parseNumber(a, next());
     else if (a == "--size") p.size = parseNumber(a, next());
     else if (a == "--min-size") p.minSize = parseNumber(a, next());
     else if (a == "--max-size") p.maxSize = parseNumber(a, next());
@@ -335,7 +341,7 @@ int cmdMesh(int argc, char** argv) {
   std::unique_ptr<IGeometryModel> geo;
   try {
     OccReaderSignalGuard guard;  // a reader crashing on a damaged file: an error, not a crash
-    geo = loadOccModel(model);
+    geo = isTriangleFile(model) ? loadDiscreteModel(model, featureAngle) : loadOccModel(model);
   } catch (const Error& e) {
     die(2, e.what());
   }

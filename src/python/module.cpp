@@ -15,6 +15,7 @@
 
 #include "paramesh/algo/FeatureDetect.hpp"
 #include "paramesh/geom/discrete/DiscreteInput.hpp"
+#include "paramesh/geom/discrete/DiscreteModel.hpp"
 #include "paramesh/geom/occ/OccModel.hpp"
 #include "paramesh/model/Coincidence.hpp"
 #include "paramesh/io/MeshWriters.hpp"
@@ -248,11 +249,36 @@ void bindModel(py::module_& mod) {
   py::class_<PyModel>(mod, "Model")
       .def_static(
           "from_file",
-          [](const std::string& path) {
+          [](const std::string& path, double featureAngle) {
             py::gil_scoped_release nogil;
+            if (isTriangleFile(path)) return PyModel{std::shared_ptr<IGeometryModel>(loadDiscreteModel(path, featureAngle))};
             return PyModel{std::shared_ptr<IGeometryModel>(loadOccModel(path))};
           },
-          py::arg("path"), "Reads a STEP/IGES/BREP file (format from the extension).")
+          py::arg("path"), py::arg("feature_angle") = 40.0,
+          "Reads a STEP/IGES/BREP file, or triangulated input (STL/OBJ: faces split at feature_angle).")
+      .def_static(
+          "from_arrays",
+          [](py::object points, py::object triangles, double featureAngle) {
+            const auto P = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
+            const auto T = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(triangles);
+            if (!P || P.ndim() != 2 || P.shape(1) != 3) throw ParameterError("points must be an (N, 3) array");
+            if (!T || T.ndim() != 2 || T.shape(1) != 3) throw ParameterError("triangles must be an (M, 3) array of indices");
+            TriangleSoup soup;
+            soup.source = "arrays";
+            for (py::ssize_t i = 0; i < P.shape(0); ++i) soup.points.push_back({P.at(i, 0), P.at(i, 1), P.at(i, 2)});
+            for (py::ssize_t i = 0; i < T.shape(0); ++i) {
+              std::array<int, 3> t;
+              for (int k = 0; k < 3; ++k) {
+                const long long v = T.at(i, k);
+                t[k] = v < 0 || v >= (long long)soup.points.size() ? -1 : (int)v;
+              }
+              soup.triangles.push_back(t);
+            }
+            py::gil_scoped_release nogil;
+            return PyModel{std::shared_ptr<IGeometryModel>(makeDiscreteModel(discreteFromArrays(std::move(soup), featureAngle)))};
+          },
+          py::arg("points"), py::arg("triangles"), py::arg("feature_angle") = 40.0,
+          "Triangulated input from arrays: (N, 3) points, (M, 3) 0-based triangles.")
       .def_static(
           "from_brep",
           [](const std::string& brep) {

@@ -201,7 +201,7 @@ def test_damaged_stl_gives_a_clear_error(tmp_path, what, make, message):
 
 
 @needs_cli
-def test_cli_info_lists_faces_and_edges_and_mesh_says_what_is_missing(tmp_path):
+def test_cli_info_lists_faces_and_edges_and_mesh_remeshes(tmp_path):
     path = str(tmp_path / "t.stl")
     write_binary_stl(path, TETRA)
     p = subprocess.run([CLI, "info", path, "--feature-angle", "30"], capture_output=True, text=True, timeout=60)
@@ -209,5 +209,13 @@ def test_cli_info_lists_faces_and_edges_and_mesh_says_what_is_missing(tmp_path):
     lines = p.stdout.splitlines()
     assert "4 faces, 6 edges, 4 vertices at feature angle 30" in lines[0]
     assert sum(l.startswith("Face") for l in lines) == 4 and sum(l.startswith("Edge") for l in lines) == 6
-    p = subprocess.run([CLI, "mesh", path, "-o", str(tmp_path / "x.msh")], capture_output=True, text=True, timeout=60)
-    assert p.returncode == 2 and "triangulated input" in p.stderr
+    out = str(tmp_path / "x.stl")
+    p = subprocess.run([CLI, "mesh", path, "-o", out, "--size", "0.1"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    d = pm.discrete_features(out)  # the remeshed tetrahedron: closed, the same volume, nodes on its faces
+    assert d["repair"]["closed_pieces"] == 1 and d["repair"]["holes"] == 0 and len(d["triangles"]) > 100
+    P, T = d["points"], d["triangles"]
+    vol = np.einsum("ij,ij->i", P[T[:, 0]], np.cross(P[T[:, 1]], P[T[:, 2]])).sum() / 6
+    assert vol == pytest.approx(1 / 6, rel=1e-6)
+    on_face = np.isclose(P, 0, atol=1e-6).any(1) | np.isclose(P.sum(1), 1, atol=1e-6)
+    assert on_face.all()

@@ -12,6 +12,7 @@ namespace paramesh {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kNoiseCrease = 0.02;  ///< of the diagonal (docs/discrete.md)
 
 unsigned long long edgeKey(int a, int b) {
   return ((unsigned long long)(unsigned)std::min(a, b) << 32) | (unsigned)std::max(a, b);
@@ -75,53 +76,81 @@ FeatureGraph buildFeatureGraph(const TriangleSoup& m, double featureAngleDeg) {
     f.erase(std::unique(f.begin(), f.end()), f.end());
     return f;
   };
-  // 3. corners: where chains end, branch, turn sharply or change the faces they separate
-  std::vector<char> corner(N, 0);
-  for (int v = 0; v < N; ++v) {
-    if (adj[v].empty()) continue;
-    if (adj[v].size() != 2) {
-      corner[v] = 1;
-      continue;
-    }
-    const int a = adj[v][0], b = adj[v][1];
-    const Vec3 d0 = m.points[v] - m.points[a], d1 = m.points[b] - m.points[v];
-    const double l = norm(d0) * norm(d1);
-    if (facesOf(a, v) != facesOf(v, b) || !(l > 0) || dot(d0, d1) < cosFeature * l) corner[v] = 1;
-  }
-  // 4. chains between corners; a closed loop without one gets its lowest node as its corner
+  std::vector<char> corner;
   std::unordered_map<unsigned long long, int> chainOf;  // feature mesh edge -> chain
   std::vector<FeatureGraph::Chain> chains;
-  auto walk = [&](int from, int next) {
-    FeatureGraph::Chain c;
-    c.nodes = {from};
-    int prev = from, cur = next;
-    chainOf[edgeKey(prev, cur)] = (int)chains.size();
-    c.nodes.push_back(cur);
-    while (!corner[cur]) {
-      const int nx = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
-      prev = cur, cur = nx;
+  Box3 box;
+  for (const Vec3& p : m.points) box.add(p);
+  for (;;) {
+    // 3. corners: where chains end, branch, turn sharply or change the faces they separate
+    corner.assign(N, 0);
+    for (int v = 0; v < N; ++v) {
+      if (adj[v].empty()) continue;
+      if (adj[v].size() != 2) {
+        corner[v] = 1;
+        continue;
+      }
+      const int a = adj[v][0], b = adj[v][1];
+      const Vec3 d0 = m.points[v] - m.points[a], d1 = m.points[b] - m.points[v];
+      const double l = norm(d0) * norm(d1);
+      if (facesOf(a, v) != facesOf(v, b) || !(l > 0) || dot(d0, d1) < cosFeature * l) corner[v] = 1;
+    }
+    // 4. chains between corners; a closed loop without one gets its lowest node as its corner
+    chainOf.clear();
+    chains.clear();
+    auto walk = [&](int from, int next) {
+      FeatureGraph::Chain c;
+      c.nodes = {from};
+      int prev = from, cur = next;
       chainOf[edgeKey(prev, cur)] = (int)chains.size();
       c.nodes.push_back(cur);
-    }
-    c.faces = facesOf(c.nodes[0], c.nodes[1]);
-    chains.push_back(std::move(c));
-  };
-  for (int v = 0; v < N; ++v)
-    if (corner[v])
-      for (int w : adj[v])
-        if (!chainOf.count(edgeKey(v, w))) walk(v, w);
-  for (int v = 0; v < N; ++v)
-    for (int w : adj[v]) {
-      if (chainOf.count(edgeKey(v, w))) continue;
-      int lowest = v, prev = v, cur = w;  // a loop of plain nodes: find its lowest node
-      while (cur != v) {
-        lowest = std::min(lowest, cur);
+      while (!corner[cur]) {
         const int nx = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
         prev = cur, cur = nx;
+        chainOf[edgeKey(prev, cur)] = (int)chains.size();
+        c.nodes.push_back(cur);
       }
-      corner[lowest] = 1;
-      walk(lowest, std::min(adj[lowest][0], adj[lowest][1]));
+      c.faces = facesOf(c.nodes[0], c.nodes[1]);
+      chains.push_back(std::move(c));
+    };
+    for (int v = 0; v < N; ++v)
+      if (corner[v])
+        for (int w : adj[v])
+          if (!chainOf.count(edgeKey(v, w))) walk(v, w);
+    for (int v = 0; v < N; ++v)
+      for (int w : adj[v]) {
+        if (chainOf.count(edgeKey(v, w))) continue;
+        int lowest = v, prev = v, cur = w;  // a loop of plain nodes: find its lowest node
+        while (cur != v) {
+          lowest = std::min(lowest, cur);
+          const int nx = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
+          prev = cur, cur = nx;
+        }
+        corner[lowest] = 1;
+        walk(lowest, std::min(adj[lowest][0], adj[lowest][1]));
+      }
+    // a short crease that ends inside its face (under kNoiseCrease of the diagonal) is noise of
+    // the tessellation, not a feature: dropped, and the chains built again
+    bool dropped = false;
+    for (const auto& c : chains) {
+      if (c.faces.size() != 1 || (adj[c.nodes.front()].size() != 1 && adj[c.nodes.back()].size() != 1)) continue;
+      bool inside = true;
+      double len = 0;
+      for (size_t i = 1; i < c.nodes.size() && inside; ++i) {
+        const auto u = table.uses(c.nodes[i - 1], c.nodes[i]);
+        inside = u.size() == 2;
+        len += dist(m.points[c.nodes[i - 1]], m.points[c.nodes[i]]);
+      }
+      if (!inside || len >= kNoiseCrease * box.diagonal()) continue;
+      for (size_t i = 1; i < c.nodes.size(); ++i) {
+        const int x = c.nodes[i - 1], y = c.nodes[i];
+        adj[x].erase(std::find(adj[x].begin(), adj[x].end(), y));
+        adj[y].erase(std::find(adj[y].begin(), adj[y].end(), x));
+      }
+      dropped = true;
     }
+    if (!dropped) break;
+  }
   // 5. stable numbers: edges by first use over the faces' triangles, vertices by the edges
   std::vector<int> number(chains.size(), -1);
   int ne = 0;
@@ -176,21 +205,24 @@ FeatureGraph buildFeatureGraph(const TriangleSoup& m, double featureAngleDeg) {
       g.faceLoops[f].push_back(std::move(loop));
     }
     // loops that touch at a vertex are one wire (a crease walked out and back, a slit): the later
-    // loop spliced into the earlier where that one passes its first vertex
+    // loop, turned to start there, spliced into the earlier where that one passes the vertex
     auto& loops = g.faceLoops[f];
     for (bool spliced = true; spliced;) {
       spliced = false;
       for (size_t i = 0; i < loops.size() && !spliced; ++i)
         for (size_t j = i + 1; j < loops.size() && !spliced; ++j) {
-          const int v = startOf(loops[j].front());
-          if (endOf(loops[j].back()) != v) continue;  // only a closed loop can be spliced in
-          for (size_t k = 0; k < loops[i].size(); ++k)
-            if (endOf(loops[i][k]) == v) {
-              loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());
-              loops.erase(loops.begin() + j);
-              spliced = true;
-              break;
-            }
+          if (startOf(loops[j].front()) != endOf(loops[j].back())) continue;  // only a closed loop is spliced in
+          for (size_t p = 0; p < loops[j].size() && !spliced; ++p) {
+            const int v = startOf(loops[j][p]);
+            for (size_t k = 0; k < loops[i].size(); ++k)
+              if (endOf(loops[i][k]) == v) {
+                std::rotate(loops[j].begin(), loops[j].begin() + p, loops[j].end());
+                loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());
+                loops.erase(loops.begin() + j);
+                spliced = true;
+                break;
+              }
+          }
         }
     }
   }

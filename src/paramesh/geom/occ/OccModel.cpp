@@ -597,8 +597,7 @@ TopoDS_Shape readShapeUnguarded(const std::string& path, const std::string& ext,
 TopoDS_Shape readShape(const std::string& path, std::vector<std::string>& warnings) {
   const std::string ext = lowerExt(path);
   if (ext == "stl" || ext == "obj")
-    throw InputError("'" + path + "' is triangulated input: remeshing it is not built yet; `paramesh info " + path +
-                     "` (Python: discrete_features) shows the faces, feature edges and repairs found in it");
+    throw InputError("'" + path + "' is triangulated input: it is read by loadDiscreteModel, not by OpenCASCADE's CAD readers");
   if (ext != "step" && ext != "stp" && ext != "iges" && ext != "igs" && ext != "brep" && ext != "brp")
     throw InputError("unknown CAD format '." + ext + "' of '" + path +
                      "' (expected .step/.stp, .iges/.igs or .brep/.brp)");
