@@ -244,6 +244,27 @@ void bindParams(py::module_& mod) {
       .def("validate", &MeshParams::validate, "Raises ParameterError naming the first invalid field.");
 }
 
+/// (N, 3) points and (M, 3) 0-based triangles as a triangle soup (an index out of range becomes
+/// -1: a facet the repair drops and counts).
+TriangleSoup soupFromArrays(py::object points, py::object triangles) {
+  const auto P = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
+  const auto T = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(triangles);
+  if (!P || P.ndim() != 2 || P.shape(1) != 3) throw ParameterError("points must be an (N, 3) array");
+  if (!T || T.ndim() != 2 || T.shape(1) != 3) throw ParameterError("triangles must be an (M, 3) array of indices");
+  TriangleSoup soup;
+  soup.source = "arrays";
+  for (py::ssize_t i = 0; i < P.shape(0); ++i) soup.points.push_back({P.at(i, 0), P.at(i, 1), P.at(i, 2)});
+  for (py::ssize_t i = 0; i < T.shape(0); ++i) {
+    std::array<int, 3> t;
+    for (int k = 0; k < 3; ++k) {
+      const long long v = T.at(i, k);
+      t[k] = v < 0 || v >= (long long)soup.points.size() ? -1 : (int)v;
+    }
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
 /// The CAD model: loading, topology queries.
 void bindModel(py::module_& mod) {
   py::class_<PyModel>(mod, "Model")
@@ -259,21 +280,7 @@ void bindModel(py::module_& mod) {
       .def_static(
           "from_arrays",
           [](py::object points, py::object triangles, double featureAngle) {
-            const auto P = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
-            const auto T = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(triangles);
-            if (!P || P.ndim() != 2 || P.shape(1) != 3) throw ParameterError("points must be an (N, 3) array");
-            if (!T || T.ndim() != 2 || T.shape(1) != 3) throw ParameterError("triangles must be an (M, 3) array of indices");
-            TriangleSoup soup;
-            soup.source = "arrays";
-            for (py::ssize_t i = 0; i < P.shape(0); ++i) soup.points.push_back({P.at(i, 0), P.at(i, 1), P.at(i, 2)});
-            for (py::ssize_t i = 0; i < T.shape(0); ++i) {
-              std::array<int, 3> t;
-              for (int k = 0; k < 3; ++k) {
-                const long long v = T.at(i, k);
-                t[k] = v < 0 || v >= (long long)soup.points.size() ? -1 : (int)v;
-              }
-              soup.triangles.push_back(t);
-            }
+            TriangleSoup soup = soupFromArrays(points, triangles);
             py::gil_scoped_release nogil;
             return PyModel{std::shared_ptr<IGeometryModel>(makeDiscreteModel(discreteFromArrays(std::move(soup), featureAngle)))};
           },
@@ -431,22 +438,7 @@ py::dict discreteFeatures(const std::string& path, py::object points, py::object
     OccReaderSignalGuard guard;
     d = loadDiscrete(path, angle);
   } else {
-    const auto P = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
-    const auto T = py::array_t<long long, py::array::c_style | py::array::forcecast>::ensure(triangles);
-    if (!P || P.ndim() != 2 || P.shape(1) != 3) throw ParameterError("points must be an (N, 3) array");
-    if (!T || T.ndim() != 2 || T.shape(1) != 3) throw ParameterError("triangles must be an (M, 3) array of indices");
-    TriangleSoup soup;
-    soup.source = "arrays";
-    for (py::ssize_t i = 0; i < P.shape(0); ++i) soup.points.push_back({P.at(i, 0), P.at(i, 1), P.at(i, 2)});
-    for (py::ssize_t i = 0; i < T.shape(0); ++i) {
-      std::array<int, 3> t;
-      for (int k = 0; k < 3; ++k) {
-        const long long v = T.at(i, k);
-        t[k] = v < 0 || v >= (long long)soup.points.size() ? -1 : (int)v;  // dropped by the repair, counted
-      }
-      soup.triangles.push_back(t);
-    }
-    d = discreteFromArrays(std::move(soup), angle);
+    d = discreteFromArrays(soupFromArrays(points, triangles), angle);
   }
   py::dict out;
   std::vector<double> xyz;

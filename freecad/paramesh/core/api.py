@@ -176,11 +176,19 @@ def _load(source):
         return _native.Model.from_file(s)
     if isinstance(source, bytes):
         return _load(source.decode("utf-8", "replace"))
-    raise TypeError(f"cannot mesh a {type(source).__name__}: give a file path, a BREP string or a Part.Shape")
+    if hasattr(source, "Topology") and hasattr(source, "CountFacets"):  # a FreeCAD Mesh.Mesh
+        pts, facets = source.Topology
+        return _native.Model.from_arrays(np.array([[p.x, p.y, p.z] for p in pts], dtype=float),
+                                         np.array(facets, dtype=np.int64).reshape(-1, 3))
+    if isinstance(source, tuple) and len(source) == 2:  # (points, triangles) arrays
+        return _native.Model.from_arrays(np.asarray(source[0], dtype=float), np.asarray(source[1], dtype=np.int64))
+    raise TypeError(f"cannot mesh a {type(source).__name__}: give a file path (STEP/IGES/BREP/STL/OBJ), a BREP "
+                    "string, a Part.Shape, a Mesh.Mesh or (points, triangles) arrays")
 
 
 def mesh_shape(shape_or_path, progress=None, log=None, **params):
-    """Meshes a Part.Shape, a STEP/IGES/BREP file path or a BREP string; returns a MeshResult.
+    """Meshes a Part.Shape, a STEP/IGES/BREP file path or a BREP string, or remeshes triangulated
+    input (an STL/OBJ path, a Mesh.Mesh, (points, triangles) arrays); returns a MeshResult.
 
     Parameters are the CLI's options in snake_case (see MeshParams): size, min_size, max_size,
     curvature_angle, max_deviation, grading, threads, order, quads, local_sizes, boundary_layers,
