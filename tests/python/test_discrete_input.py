@@ -219,3 +219,41 @@ def test_cli_info_lists_faces_and_edges_and_mesh_remeshes(tmp_path):
     assert vol == pytest.approx(1 / 6, rel=1e-6)
     on_face = np.isclose(P, 0, atol=1e-6).any(1) | np.isclose(P.sum(1), 1, atol=1e-6)
     assert on_face.all()
+
+
+@needs_freecad
+@pytest.mark.parametrize("name", ["screw.step", "linkrods.step", "AileM6_with_sharp_TE.stp"])
+def test_remeshed_stl_is_closed_on_the_cad_and_well_shaped(tmp_path, name):
+    """The STL of a model remeshed at diagonal / 100: a closed, consistently oriented surface whose
+    nodes lie within the STL's own deflection of the original CAD, with well-shaped triangles."""
+    shape, defl, stl = tessellated(tmp_path, name)
+    diag = shape.BoundBox.DiagonalLength
+    h = diag / 100
+    r = pm.mesh_shape(stl, size=h)
+    assert r.report["status"] == "ok", r.report["message"]
+    P, T = np.asarray(r.nodes), np.asarray(r.triangles)
+    # closed and oriented: every mesh edge used once each way
+    directed = {}
+    for t in T:
+        for k in range(3):
+            directed[(t[k], t[(k + 1) % 3])] = directed.get((t[k], t[(k + 1) % 3]), 0) + 1
+    assert all(c == 1 for c in directed.values()) and all((b, a) in directed for (a, b) in directed)
+    vol = np.einsum("ij,ij->i", P[T[:, 0]], np.cross(P[T[:, 1]], P[T[:, 2]])).sum() / 6
+    assert vol == pytest.approx(sum(s.Volume for s in shape.Solids), rel=0.01)
+    # nodes on the CAD within the input's deflection + 1e-3 h (300 sampled)
+    pick = np.random.default_rng(0).choice(len(P), size=min(300, len(P)), replace=False)
+    dev = max(Part.Vertex(FreeCAD.Vector(*P[i])).distToShape(shape)[0] for i in pick)
+    assert dev <= defl + 1e-3 * h, f"a node {dev:.3g} from the CAD (deflection {defl:.3g})"
+    # shape: radius ratio and angles
+    a, b, c = (np.linalg.norm(P[T[:, i]] - P[T[:, (i + 1) % 3]], axis=1) for i in range(3))
+    s = (a + b + c) / 2
+    area = np.sqrt(np.maximum(s * (s - a) * (s - b) * (s - c), 0))
+    gamma = 4 * area * area * 4 / (a * b * c * s) / 2  # 2 r_in / r_circ
+    assert gamma.mean() >= 0.95
+    if name.startswith("AileM6"):  # the sharp trailing edge kept: mesh nodes along all of it
+        te0, te1 = np.array([810.5, 0, 0]), np.array([1146.6, 1196.3, 0])
+        d = te1 - te0
+        t = np.clip((P - te0) @ d / (d @ d), 0, 1)
+        on = np.linalg.norm(P - (te0 + t[:, None] * d), axis=1) < 1.0
+        ts = np.sort(t[on])
+        assert ts[0] < 1e-3 and ts[-1] > 1 - 1e-3 and np.diff(ts).max() * np.linalg.norm(d) < 1.5 * h
