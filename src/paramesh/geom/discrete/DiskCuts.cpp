@@ -141,9 +141,10 @@ std::vector<std::string> cutFacesToDisks(const TriangleSoup& m, FeatureGraph& g)
       std::vector<Use> splice{{e, false}};
       splice.insert(splice.end(), h.begin(), h.end());
       splice.push_back({e, true});
+      // spliced where the outer wire passes the seam's start with the seam in that corner (a
+      // wire can pass a node twice: along both sides of an earlier seam or a crease)
       auto& o = loops[0];
-      size_t k = 0;
-      while (k < o.size() && endOf(g, o[k]) != c.v0) ++k;
+      const size_t k = splicePosition(m, g, f, o, c.v0, c.nodes[1]);
       o.insert(o.begin() + std::min(k + 1, o.size()), splice.begin(), splice.end());
       loops.erase(loops.begin() + 1);
     }

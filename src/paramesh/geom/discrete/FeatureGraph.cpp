@@ -18,7 +18,46 @@ unsigned long long edgeKey(int a, int b) {
   return ((unsigned long long)(unsigned)std::min(a, b) << 32) | (unsigned)std::max(a, b);
 }
 
+/// Does the corner of the face at node x, between the wire's arrival from node p and its
+/// departure to node q (the face on its left), hold the mesh edge (x, y)? Turns about x through
+/// the face's triangles from (x, q) towards (x, p). side: directed side (a, b) -> its triangle.
+bool cornerHolds(const TriangleSoup& m, const std::unordered_map<unsigned long long, int>& side, int x, int p,
+                 int q, int y) {
+  int cur = q;
+  for (size_t guard = 0; guard < m.triangles.size(); ++guard) {
+    auto it = side.find(((unsigned long long)(unsigned)x << 32) | (unsigned)cur);
+    if (it == side.end()) return false;
+    int r = -1;
+    for (int v : m.triangles[it->second])
+      if (v != x && v != cur) r = v;
+    if (r == y) return true;
+    if (r == p || r < 0) return false;
+    cur = r;
+  }
+  return false;
+}
+
 }  // namespace
+
+size_t splicePosition(const TriangleSoup& m, const FeatureGraph& g, int f, const std::vector<std::pair<int, bool>>& o,
+                      int v, int next) {
+  std::unordered_map<unsigned long long, int> side;
+  for (int t : g.faceTris[f])
+    for (int i = 0; i < 3; ++i)
+      side[((unsigned long long)(unsigned)m.triangles[t][i] << 32) | (unsigned)m.triangles[t][(i + 1) % 3]] = t;
+  auto endOf = [&](const std::pair<int, bool>& u) { return u.second ? g.edges[u.first].v0 : g.edges[u.first].v1; };
+  size_t k = o.size();
+  for (size_t i = 0; i < o.size(); ++i) {
+    if (endOf(o[i]) != v) continue;
+    if (k == o.size()) k = i;
+    const auto& in = g.edges[o[i].first].nodes;
+    const auto& out = g.edges[o[(i + 1) % o.size()].first].nodes;
+    const int p = o[i].second ? in[1] : in[in.size() - 2];
+    const int q = o[(i + 1) % o.size()].second ? out[out.size() - 2] : out[1];
+    if (cornerHolds(m, side, g.vertexNode[v], p, q, next)) return i;
+  }
+  return k;
+}
 
 FeatureGraph buildFeatureGraph(const TriangleSoup& m, double featureAngleDeg) {
   FeatureGraph g;
@@ -214,14 +253,13 @@ FeatureGraph buildFeatureGraph(const TriangleSoup& m, double featureAngleDeg) {
           if (startOf(loops[j].front()) != endOf(loops[j].back())) continue;  // only a closed loop is spliced in
           for (size_t p = 0; p < loops[j].size() && !spliced; ++p) {
             const int v = startOf(loops[j][p]);
-            for (size_t k = 0; k < loops[i].size(); ++k)
-              if (endOf(loops[i][k]) == v) {
-                std::rotate(loops[j].begin(), loops[j].begin() + p, loops[j].end());
-                loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());
-                loops.erase(loops.begin() + j);
-                spliced = true;
-                break;
-              }
+            const auto& c = g.edges[loops[j][p].first].nodes;
+            const size_t k = splicePosition(m, g, f, loops[i], v, loops[j][p].second ? c[c.size() - 2] : c[1]);
+            if (k == loops[i].size()) continue;
+            std::rotate(loops[j].begin(), loops[j].begin() + p, loops[j].end());
+            loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());
+            loops.erase(loops.begin() + j);
+            spliced = true;
           }
         }
     }

@@ -28,6 +28,13 @@ struct FeatureGraph {
   std::vector<std::vector<std::vector<std::pair<int, bool>>>> faceLoops;
 };
 
+/// Where a wire of face f passes vertex v with the mesh edge (v's node, next) in the corner the
+/// face has there: the index of the use arriving at v (a wire may pass a vertex more than once,
+/// along both sides of a crease or a seam). The first passage when none holds it, size() when the
+/// wire does not pass v.
+size_t splicePosition(const TriangleSoup& mesh, const FeatureGraph& g, int f,
+                      const std::vector<std::pair<int, bool>>& wire, int v, int next);
+
 /// featureAngleDeg: a mesh edge between two facets whose normals differ by more than this is a
 /// feature. Sharp turns of more than the same angle along a chain of feature edges are corners.
 FeatureGraph buildFeatureGraph(const TriangleSoup& mesh, double featureAngleDeg = 40.0);
