@@ -42,6 +42,7 @@ from gui_steps_output import (step_export, step_quality, step_reopened_quality_a
 from gui_steps_latency import step_latency  # noqa: E402
 from gui_steps_volume import step_volume  # noqa: E402
 from gui_steps_handover import step_handover  # noqa: E402
+from gui_steps_remesh import step_remesh  # noqa: E402
 
 
 def run_all():
@@ -93,6 +94,7 @@ def run_all():
                 FreeCAD.closeDocument(reopened[0].Name)
         guarded("volume", step_volume)
         guarded("hand-over from Gmsh", step_handover)
+        guarded("remesh a Mesh object", step_remesh)
     if os.environ.get("PARAMESH_GUI_SKIP_BIG") != "1":
         guarded("latency", step_latency)
     wait_ms(200)

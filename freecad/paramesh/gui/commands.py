@@ -83,7 +83,9 @@ def selected_subs(part, prefixes):
 def effective_size(mesh_obj):
     size = float(mesh_obj.Size)
     if size <= 0 and mesh_obj.Part is not None:
-        size = mesh_obj.Part.Shape.BoundBox.DiagonalLength / 50.0
+        part = mesh_obj.Part
+        box = part.Shape.BoundBox if hasattr(part, "Shape") else part.Mesh.BoundBox
+        size = box.DiagonalLength / 50.0
     return size or 1.0
 
 
@@ -181,6 +183,40 @@ class SurfaceMeshCommand(Command):
                 if analysis is not None:
                     FreeCADGui.doCommand("FemGui.getActiveAnalysis().addObject(_pm_mesh)")
                 created += [m for m in surface_meshes(doc) if m not in created and m.Part == part][-1:]
+        if created:
+            open_edit(created[-1])
+
+
+def is_mesh_object(obj):
+    """A Mesh::Feature with facets (triangulated input for ParaMesh_Remesh)."""
+    return obj.isDerivedFrom("Mesh::Feature") and obj.Mesh.CountFacets > 0
+
+
+class RemeshCommand(Command):
+    id = "ParaMesh_Remesh"
+    menu = "Remesh a Mesh object"
+    tooltip = ("Remeshes each selected Mesh object (STL, OBJ, a scan) with ParaMesh: faces split at "
+               "sharp edges, a ParaMesh mesh (a FEM mesh) and a new Mesh object with its triangles")
+
+    def IsActive(self):
+        doc = FreeCAD.ActiveDocument
+        if doc is None or dialog_open():
+            return False
+        return any(is_mesh_object(o) for o in FreeCADGui.Selection.getSelection(doc.Name))
+
+    def Activated(self):
+        doc = FreeCAD.ActiveDocument
+        sources = [o for o in FreeCADGui.Selection.getSelection(doc.Name) if is_mesh_object(o)]
+        created = []
+        with transaction(doc, "Remesh with ParaMesh"):
+            FreeCADGui.addModule("freecad.paramesh.app.factories")
+            for src in sources:
+                size = round_sig(src.Mesh.BoundBox.DiagonalLength / 100.0, 4)
+                FreeCADGui.doCommand(
+                    f"_pm_mesh = freecad.paramesh.app.factories.make_surface_mesh("
+                    f"App.getDocument({doc.Name!r}), {obj_ref(src)}, name='ParaMeshRemesh', size={size!r})")
+                FreeCADGui.doCommand("_pm_mesh.CreateMeshFeature = True")
+                created += [m for m in surface_meshes(doc) if m not in created and m.Part == src][-1:]
         if created:
             open_edit(created[-1])
 
@@ -403,7 +439,7 @@ class FromGmshCommand(Command):
             FreeCADGui.doCommand(f"_pm_obj, _pm_notes = freecad.paramesh.app.from_gmsh.from_gmsh_mesh({obj_ref(gmsh)})")
 
 
-COMMANDS = [SurfaceMeshCommand, BoundaryLayerCommand, LocalSizeCommand, QualityCommand, ExportCommand,
+COMMANDS = [SurfaceMeshCommand, RemeshCommand, BoundaryLayerCommand, LocalSizeCommand, QualityCommand, ExportCommand,
             ToMeshCommand, FromGmshCommand]
 TOOLBAR = [c.id for c in COMMANDS]
 MENU = TOOLBAR

@@ -49,6 +49,16 @@ class MeshRunner:
         GUI thread); raises RunError with a readable message. Parsing the BREP and building the
         mesher happen in the worker, so the GUI thread only does the cheap part."""
         part = getattr(obj, "Part", None)
+        from ..app.objects.surface_mesh import is_mesh_feature, mesh_source
+        if is_mesh_feature(part):  # triangulated input: its arrays, read here on the GUI thread
+            try:
+                self.brep = mesh_source(part)
+                self.params = obj.Proxy.params(obj)
+            except Exception as e:
+                raise RunError(str(e)) from e
+            self.femmesh = _empty_femmesh()
+            self.state = "prepared"
+            return self
         if part is None or not hasattr(part, "Shape"):
             raise RunError(f"{obj.Label}: no Part to mesh (set its Part property)")
         shape = part.Shape

@@ -46,7 +46,11 @@ class TaskSurfaceMesh(MeshTaskPanel):
         self.params = ParamForm(m, surface_mesh_fields(), f"ParaMesh surface mesh — {m.Label}")
         icon = QtGui.QIcon(_icon("ParaMesh_SurfaceMesh"))
         self.params.setWindowIcon(icon)
-        part = QtGui.QLabel(f"<b>{m.Part.Label}</b> ({len(m.Part.Shape.Faces)} faces)" if m.Part else
+        if m.Part is not None and not hasattr(m.Part, "Shape") and hasattr(m.Part, "Mesh"):
+            what = f"{m.Part.Mesh.CountFacets} facets, remeshed"  # a Mesh object (triangulated input)
+        else:
+            what = f"{len(m.Part.Shape.Faces)} faces" if m.Part is not None else ""
+        part = QtGui.QLabel(f"<b>{m.Part.Label}</b> ({what})" if m.Part else
                             "<span style='color:#c00000'>no Part</span>")
         part.setToolTip(m.getDocumentationOfProperty("Part"))
         self.params.layout_.insertRow(0, "Part", part)

@@ -10,6 +10,26 @@ import numpy as np
 import FreeCAD
 
 from .base import BaseProxy, add_property
+
+
+def is_mesh_feature(part):
+    """A Mesh::Feature (triangulated input: remeshed by the discrete backend)."""
+    return part is not None and hasattr(part, "Mesh") and hasattr(part.Mesh, "Topology") and not hasattr(part, "Shape")
+
+
+def mesh_source(part):
+    """What MeshJob meshes for the linked object: its Part.Shape, or for a Mesh::Feature its
+    (points, triangles) arrays. Raises ValueError naming the object when there is nothing to mesh."""
+    if part is None:
+        raise ValueError("no Part to mesh (set its Part property)")
+    if is_mesh_feature(part):
+        pts, facets = part.Mesh.Topology
+        if not facets:
+            raise ValueError(f"{part.Label}: the mesh has no facet")
+        return (np.array([[p.x, p.y, p.z] for p in pts], dtype=float), np.array(facets, dtype=np.int64).reshape(-1, 3))
+    if not hasattr(part, "Shape"):
+        raise ValueError(f"{part.Label}: neither a Part nor a Mesh object")
+    return part.Shape
 from ...core.params import FIELDS
 from ...core.report_text import volume_lines
 
@@ -88,14 +108,16 @@ class SurfaceMesh(BaseProxy):
         return p.validate()
 
     def execute(self, obj):
-        if obj.Part is None or not hasattr(obj.Part, "Shape"):
+        try:
+            source = mesh_source(obj.Part)
+        except ValueError as e:
             obj.Status = "failed"
-            obj.Report = json.dumps({"status": "failed", "message": "no Part to mesh"})
-            FreeCAD.Console.PrintError(f"{obj.Label}: no Part to mesh\n")
+            obj.Report = json.dumps({"status": "failed", "message": str(e)})
+            FreeCAD.Console.PrintError(f"{obj.Label}: {e}\n")
             return
         from ...core.api import MeshJob, ParaMeshError
         try:
-            result = MeshJob(obj.Part.Shape, self.params(obj)).run()
+            result = MeshJob(source, self.params(obj)).run()
         except (ParaMeshError, ValueError, TypeError) as e:
             obj.Status = "failed"
             obj.Report = json.dumps({"status": "failed", "message": str(e)})
@@ -172,7 +194,7 @@ class SurfaceMesh(BaseProxy):
             r = self.last_result(obj)
             if r is None:
                 from ...core.api import MeshJob
-                r = MeshJob(obj.Part.Shape, self.params(obj)).run()
+                r = MeshJob(mesh_source(obj.Part), self.params(obj)).run()
                 self.apply_result(obj, r)
             r.write(path)
         elif ext in (".unv", ".med", ".vtk", ".z88", ".dat"):
