@@ -146,79 +146,91 @@ class Command:
 # -- commands ----------------------------------------------------------------------------------------
 
 
-class SurfaceMeshCommand(Command):
-    id = "ParaMesh_SurfaceMesh"
-    menu = "Surface mesh"
-    tooltip = ("Creates a ParaMesh surface mesh (a FEM mesh) of each selected Part object and opens its "
-               "parameters; joins the active FEM analysis")
-
-    def IsActive(self):
-        doc = FreeCAD.ActiveDocument
-        if doc is None or dialog_open():
-            return False
-        return any(meshable(o) for o in FreeCADGui.Selection.getSelection(doc.Name))
-
-    def Activated(self):
-        doc = FreeCAD.ActiveDocument
-        parts = [o for o in FreeCADGui.Selection.getSelection(doc.Name) if meshable(o)]
-        if not parts:
-            return
-        try:
-            import FemGui
-            analysis = FemGui.getActiveAnalysis()
-        except Exception:
-            analysis = None
-        if analysis is not None and analysis.Document != doc:
-            analysis = None
-        created = []
-        with transaction(doc, "Create ParaMesh surface mesh"):
-            FreeCADGui.addModule("freecad.paramesh.app.factories")
-            if analysis is not None:
-                FreeCADGui.addModule("FemGui")
-            for part in parts:
-                size = round_sig(part.Shape.BoundBox.DiagonalLength / 100.0, 4)
-                FreeCADGui.doCommand(
-                    f"_pm_mesh = freecad.paramesh.app.factories.make_surface_mesh("
-                    f"App.getDocument({doc.Name!r}), {obj_ref(part)}, size={size!r})")
-                if analysis is not None:
-                    FreeCADGui.doCommand("FemGui.getActiveAnalysis().addObject(_pm_mesh)")
-                created += [m for m in surface_meshes(doc) if m not in created and m.Part == part][-1:]
-        if created:
-            open_edit(created[-1])
-
-
 def is_mesh_object(obj):
     """A Mesh::Feature with facets (triangulated input for ParaMesh_Remesh)."""
     return obj.isDerivedFrom("Mesh::Feature") and obj.Mesh.CountFacets > 0
 
 
-class RemeshCommand(Command):
-    id = "ParaMesh_Remesh"
-    menu = "Remesh a Mesh object"
-    tooltip = ("Remeshes each selected Mesh object (STL, OBJ, a scan) with ParaMesh: faces split at "
-               "sharp edges, a ParaMesh mesh (a FEM mesh) and a new Mesh object with its triangles")
+class _CreateMeshCommand(Command):
+    """Creates a ParaMesh mesh of each selected object that `accepts`, at its diagonal / 100,
+    in one undo step, and opens the last one's task panel."""
+    undo = ""
+    extra = ()  # commands run on each new mesh (_pm_mesh)
+    join_analysis = False
+
+    def accepts(self, obj):
+        raise NotImplementedError
+
+    def box(self, obj):
+        raise NotImplementedError
 
     def IsActive(self):
         doc = FreeCAD.ActiveDocument
         if doc is None or dialog_open():
             return False
-        return any(is_mesh_object(o) for o in FreeCADGui.Selection.getSelection(doc.Name))
+        return any(self.accepts(o) for o in FreeCADGui.Selection.getSelection(doc.Name))
 
     def Activated(self):
         doc = FreeCAD.ActiveDocument
-        sources = [o for o in FreeCADGui.Selection.getSelection(doc.Name) if is_mesh_object(o)]
+        sources = [o for o in FreeCADGui.Selection.getSelection(doc.Name) if self.accepts(o)]
+        if not sources:
+            return
+        analysis = None
+        if self.join_analysis:
+            try:
+                import FemGui
+                analysis = FemGui.getActiveAnalysis()
+            except Exception:
+                analysis = None
+            if analysis is not None and analysis.Document != doc:
+                analysis = None
         created = []
-        with transaction(doc, "Remesh with ParaMesh"):
+        with transaction(doc, self.undo):
             FreeCADGui.addModule("freecad.paramesh.app.factories")
+            if analysis is not None:
+                FreeCADGui.addModule("FemGui")
             for src in sources:
-                size = round_sig(src.Mesh.BoundBox.DiagonalLength / 100.0, 4)
+                size = round_sig(self.box(src).DiagonalLength / 100.0, 4)
                 FreeCADGui.doCommand(
                     f"_pm_mesh = freecad.paramesh.app.factories.make_surface_mesh("
-                    f"App.getDocument({doc.Name!r}), {obj_ref(src)}, name='ParaMeshRemesh', size={size!r})")
-                FreeCADGui.doCommand("_pm_mesh.CreateMeshFeature = True")
+                    f"App.getDocument({doc.Name!r}), {obj_ref(src)}, size={size!r})")
+                for c in self.extra:
+                    FreeCADGui.doCommand(c)
+                if analysis is not None:
+                    FreeCADGui.doCommand("FemGui.getActiveAnalysis().addObject(_pm_mesh)")
                 created += [m for m in surface_meshes(doc) if m not in created and m.Part == src][-1:]
         if created:
             open_edit(created[-1])
+
+
+class SurfaceMeshCommand(_CreateMeshCommand):
+    id = "ParaMesh_SurfaceMesh"
+    menu = "Surface mesh"
+    tooltip = ("Creates a ParaMesh surface mesh (a FEM mesh) of each selected Part object and opens its "
+               "parameters; joins the active FEM analysis")
+    undo = "Create ParaMesh surface mesh"
+    join_analysis = True
+
+    def accepts(self, obj):
+        return meshable(obj)
+
+    def box(self, obj):
+        return obj.Shape.BoundBox
+
+
+class RemeshCommand(_CreateMeshCommand):
+    id = "ParaMesh_Remesh"
+    menu = "Remesh a Mesh object"
+    tooltip = ("Remeshes each selected Mesh object (STL, OBJ, a scan) with ParaMesh: faces split at "
+               "sharp edges, a ParaMesh mesh (a FEM mesh) and a new Mesh object with its triangles")
+    undo = "Remesh with ParaMesh"
+    extra = ("_pm_mesh.CreateMeshFeature = True",)
+
+    def accepts(self, obj):
+        return is_mesh_object(obj)
+
+    def box(self, obj):
+        return obj.Mesh.BoundBox
 
 
 class BoundaryLayerCommand(Command):
