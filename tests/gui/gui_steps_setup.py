@@ -36,7 +36,7 @@ def step_workbench():
     check("ParaMesh toolbar shown", bool(tb) and tb[0].isVisible())
     if tb:
         names = [a.text() for a in tb[0].actions()]
-        check("toolbar holds the nine commands", len([a for a in tb[0].actions() if not a.isSeparator()]) >= 9, names)
+        check("toolbar holds the eight commands", len([a for a in tb[0].actions() if not a.isSeparator()]) >= 8, names)
     menus = [m.title() for m in main_window().menuBar().findChildren(QtGui.QMenu)]
     check("ParaMesh menu", any(t.replace("&", "") == "ParaMesh" for t in menus))
 
