@@ -24,7 +24,7 @@ class Digest {
       word(w);
     }
     uint64_t tail = 0;
-    std::memcpy(&tail, b + i, n - i);
+    if (n > i) std::memcpy(&tail, b + i, n - i);  // (an empty vector's data() may be null)
     word(tail);
   }
   uint64_t value() const { return h_; }
