@@ -109,6 +109,8 @@ def test_bad_inputs_raise_clear_errors(tmp_path):
     with pytest.raises(pm.InputError):
         pm.mesh_file(bad)
     with pytest.raises(pm.InputError, match="format"):
+        pm.mesh_file(tmp_path / "x.xyz")
+    with pytest.raises(pm.InputError, match="cannot open"):  # OBJ is triangulated input now
         pm.mesh_file(tmp_path / "x.obj")
     with pytest.raises(TypeError):
         pm.mesh_shape(42)
