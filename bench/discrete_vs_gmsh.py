@@ -25,8 +25,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHARED = os.path.join(os.path.dirname(ROOT), "shared")
 
 
-def meshcheck(model, mesh, h):
-    p = subprocess.run([sys.executable, os.path.join(SHARED, "tools", "meshcheck.py"), model, mesh, "--size", str(h)],
+def meshcheck(model, mesh, h, samples=4000):
+    p = subprocess.run([sys.executable, os.path.join(SHARED, "tools", "meshcheck.py"), model, mesh, "--size", str(h),
+                        "--samples", str(samples)],
                        capture_output=True, text=True, timeout=1800)
     try:
         return json.loads(p.stdout[p.stdout.index("{"):])
@@ -58,7 +59,9 @@ def run(model, work, exe, angular):
     row = {"model": os.path.basename(model), "h": h, "deflection": defl, "stl_facets": mesh.CountFacets,
            "exit": p.returncode, "message": p.stderr.strip()[-400:]}
     if os.path.exists(out):
-        row["paramesh"] = meshcheck(model, out, h)
+        # 300 samples: meshcheck looks for the nearest CAD face of every sampled triangle of a
+        # discrete patch (its MSH entity is no CAD face), over all faces
+        row["paramesh"] = meshcheck(model, out, h, samples=300)
         row["node_dev"] = node_deviation(shape, out)
     g = os.path.join(work, name + "_gmsh.msh")
     subprocess.run([sys.executable, os.path.join(SHARED, "tools", "gmsh_baseline.py"), "--algo", "frontal", model, str(h), g],
@@ -80,9 +83,16 @@ def main():
                                 glob.glob(os.path.join(SHARED, "models", "*.ig*s")))
     os.makedirs(a.work, exist_ok=True)
     rows = []
+    done = os.path.join(a.work, "results.jsonl")
+    if os.path.exists(done):  # a run stopped half-way goes on where it was
+        rows = [json.loads(l) for l in open(done)]
     for m in models:
+        if any(r["model"] == os.path.basename(m) for r in rows):
+            continue
         rows.append(run(m, a.work, a.paramesh, a.angular))
         print(json.dumps(rows[-1]), flush=True)
+        with open(done, "a") as f:
+            f.write(json.dumps(rows[-1]) + "\n")
     json.dump(rows, open(os.path.join(a.work, "results.json"), "w"), indent=1)
 
 
