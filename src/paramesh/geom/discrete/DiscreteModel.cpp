@@ -57,7 +57,6 @@ struct FaceGeometry {
   std::vector<Vec3> xyz;  // per local vertex
   int cells = 1;
   std::vector<std::vector<int>> grid;  // cells x cells over [-1, 1]^2, triangles overlapping each
-  std::vector<std::vector<Polyline>> pcurveS;  // unused
   int cellOf(double x) const { return std::clamp((int)std::floor((x + 1.0) * 0.5 * cells), 0, cells - 1); }
   void build() {
     cells = std::max(1, (int)std::sqrt((double)param.tris.size() / 2.0));
