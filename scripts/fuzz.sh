@@ -122,6 +122,7 @@ case "${1:-}" in
     replay
     # every seed input once (-runs=0: libFuzzer runs its corpus, then stops): deterministic, gates CI
     for name in "${NAMES[@]}"; do
+      mkdir -p "$BUILD/artifacts/$name"
       log="$BUILD/fuzz-seeds-$name.log"
       # shellcheck disable=SC2046
       if ! "$BUILD/bin/fuzz_$name" $(opts "$name") -rss_limit_mb=2048 -runs=0 \
@@ -164,8 +165,9 @@ case "${1:-}" in
     done
     if [ "$findings" -gt 0 ]; then
       echo "fuzz.sh ci: $findings harness(es) found a new failure in exploration (above)"
-      [ "${PARAMESH_FUZZ_CI_STRICT:-0}" = 1 ] && exit 1
+      if [ "${PARAMESH_FUZZ_CI_STRICT:-0}" = 1 ]; then exit 1; fi
     fi
+    exit 0
     ;;
   ""|-h|--help) sed -n '2,18p' "$0"; exit 1;;
   *)
