@@ -59,6 +59,65 @@ size_t splicePosition(const TriangleSoup& m, const FeatureGraph& g, int f, const
   return k;
 }
 
+/// Step 6 of buildFeatureGraph: each face's boundary loops, the face on the left of each use;
+/// loops that touch at a vertex joined into one wire.
+static void buildFaceLoops(const TriangleSoup& m, const EdgeTable& table, FeatureGraph& g) {
+  const int nf = (int)g.faceTris.size();
+  g.faceLoops.assign(nf, {});
+  std::vector<std::vector<std::pair<int, bool>>> uses(nf);
+  for (int e = 0; e < (int)g.edges.size(); ++e) {
+    const auto& c = g.edges[e];
+    for (const auto& u : table.uses(c.nodes[0], c.nodes[1])) {
+      const bool along = EdgeTable::runs(m.triangles[u.tri], c.nodes[0], c.nodes[1]);
+      auto& fu = uses[g.triFace[u.tri]];
+      const std::pair<int, bool> use{e, !along};
+      if (std::find(fu.begin(), fu.end(), use) == fu.end()) fu.push_back(use);
+    }
+  }
+  for (int f = 0; f < nf; ++f) {
+    auto& left = uses[f];
+    std::vector<char> done(left.size(), 0);
+    auto startOf = [&](const std::pair<int, bool>& u) { return u.second ? g.edges[u.first].v1 : g.edges[u.first].v0; };
+    auto endOf = [&](const std::pair<int, bool>& u) { return u.second ? g.edges[u.first].v0 : g.edges[u.first].v1; };
+    for (size_t s = 0; s < left.size(); ++s) {
+      if (done[s]) continue;
+      std::vector<std::pair<int, bool>> loop{left[s]};
+      done[s] = 1;
+      const int first = startOf(left[s]);
+      int at = endOf(left[s]);
+      while (at != first) {
+        size_t k = 0;
+        while (k < left.size() && (done[k] || startOf(left[k]) != at)) ++k;
+        if (k == left.size()) break;  // an open chain of uses (a face with a dangling boundary)
+        done[k] = 1;
+        loop.push_back(left[k]);
+        at = endOf(left[k]);
+      }
+      g.faceLoops[f].push_back(std::move(loop));
+    }
+    // loops that touch at a vertex are one wire (a crease walked out and back, a slit): the later
+    // loop, turned to start there, spliced into the earlier where that one passes the vertex
+    auto& loops = g.faceLoops[f];
+    for (bool spliced = true; spliced;) {
+      spliced = false;
+      for (size_t i = 0; i < loops.size() && !spliced; ++i)
+        for (size_t j = i + 1; j < loops.size() && !spliced; ++j) {
+          if (startOf(loops[j].front()) != endOf(loops[j].back())) continue;  // only a closed loop is spliced in
+          for (size_t p = 0; p < loops[j].size() && !spliced; ++p) {
+            const int v = startOf(loops[j][p]);
+            const auto& c = g.edges[loops[j][p].first].nodes;
+            const size_t k = splicePosition(m, g, f, loops[i], v, loops[j][p].second ? c[c.size() - 2] : c[1]);
+            if (k == loops[i].size()) continue;
+            std::rotate(loops[j].begin(), loops[j].begin() + p, loops[j].end());
+            loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());
+            loops.erase(loops.begin() + j);
+            spliced = true;
+          }
+        }
+    }
+  }
+}
+
 FeatureGraph buildFeatureGraph(const TriangleSoup& m, double featureAngleDeg) {
   FeatureGraph g;
   const int T = (int)m.triangles.size(), N = (int)m.points.size();
@@ -210,60 +269,7 @@ FeatureGraph buildFeatureGraph(const TriangleSoup& m, double featureAngleDeg) {
       if (vertexOf[node] < 0) vertexOf[node] = (int)g.vertexNode.size(), g.vertexNode.push_back(node);
       *end = vertexOf[node];
     }
-  // 6. each face's boundary loops, the face on the left of each use
-  g.faceLoops.assign(nf, {});
-  std::vector<std::vector<std::pair<int, bool>>> uses(nf);
-  for (int e = 0; e < (int)g.edges.size(); ++e) {
-    const auto& c = g.edges[e];
-    for (const auto& u : table.uses(c.nodes[0], c.nodes[1])) {
-      const bool along = EdgeTable::runs(m.triangles[u.tri], c.nodes[0], c.nodes[1]);
-      auto& fu = uses[g.triFace[u.tri]];
-      const std::pair<int, bool> use{e, !along};
-      if (std::find(fu.begin(), fu.end(), use) == fu.end()) fu.push_back(use);
-    }
-  }
-  for (int f = 0; f < nf; ++f) {
-    auto& left = uses[f];
-    std::vector<char> done(left.size(), 0);
-    auto startOf = [&](const std::pair<int, bool>& u) { return u.second ? g.edges[u.first].v1 : g.edges[u.first].v0; };
-    auto endOf = [&](const std::pair<int, bool>& u) { return u.second ? g.edges[u.first].v0 : g.edges[u.first].v1; };
-    for (size_t s = 0; s < left.size(); ++s) {
-      if (done[s]) continue;
-      std::vector<std::pair<int, bool>> loop{left[s]};
-      done[s] = 1;
-      const int first = startOf(left[s]);
-      int at = endOf(left[s]);
-      while (at != first) {
-        size_t k = 0;
-        while (k < left.size() && (done[k] || startOf(left[k]) != at)) ++k;
-        if (k == left.size()) break;  // an open chain of uses (a face with a dangling boundary)
-        done[k] = 1;
-        loop.push_back(left[k]);
-        at = endOf(left[k]);
-      }
-      g.faceLoops[f].push_back(std::move(loop));
-    }
-    // loops that touch at a vertex are one wire (a crease walked out and back, a slit): the later
-    // loop, turned to start there, spliced into the earlier where that one passes the vertex
-    auto& loops = g.faceLoops[f];
-    for (bool spliced = true; spliced;) {
-      spliced = false;
-      for (size_t i = 0; i < loops.size() && !spliced; ++i)
-        for (size_t j = i + 1; j < loops.size() && !spliced; ++j) {
-          if (startOf(loops[j].front()) != endOf(loops[j].back())) continue;  // only a closed loop is spliced in
-          for (size_t p = 0; p < loops[j].size() && !spliced; ++p) {
-            const int v = startOf(loops[j][p]);
-            const auto& c = g.edges[loops[j][p].first].nodes;
-            const size_t k = splicePosition(m, g, f, loops[i], v, loops[j][p].second ? c[c.size() - 2] : c[1]);
-            if (k == loops[i].size()) continue;
-            std::rotate(loops[j].begin(), loops[j].begin() + p, loops[j].end());
-            loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());
-            loops.erase(loops.begin() + j);
-            spliced = true;
-          }
-        }
-    }
-  }
+  buildFaceLoops(m, table, g);
   return g;
 }
 
