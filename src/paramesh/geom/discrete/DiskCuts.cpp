@@ -114,6 +114,7 @@ std::vector<std::string> cutFacesToDisks(const TriangleSoup& m, FeatureGraph& g)
       why[f] = "Face" + std::to_string(f + 1) + " has no boundary (a closed smooth surface): it cannot be parametrised yet";
       continue;
     }
+    const auto sides = loops.size() > 1 ? faceSides(m, g.faceTris[f]) : std::unordered_map<unsigned long long, int>();
     while (loops.size() > 1) {
       // corners of the outer wire (loop 0, with the holes joined so far) and of the next hole
       std::vector<int> outer, hole;  // every node of the outer wire and of the hole
@@ -144,7 +145,7 @@ std::vector<std::string> cutFacesToDisks(const TriangleSoup& m, FeatureGraph& g)
       // spliced where the outer wire passes the seam's start with the seam in that corner (a
       // wire can pass a node twice: along both sides of an earlier seam or a crease)
       auto& o = loops[0];
-      const size_t k = splicePosition(m, g, f, o, c.v0, c.nodes[1]);
+      const size_t k = splicePosition(m, g, sides, o, c.v0, c.nodes[1]);
       o.insert(o.begin() + std::min(k + 1, o.size()), splice.begin(), splice.end());
       loops.erase(loops.begin() + 1);
     }

@@ -9,6 +9,10 @@
 
 namespace paramesh {
 
+/// Hash keys of mesh edges: the directed side a -> b, and the edge {a, b} in either order.
+inline unsigned long long sideKey(int a, int b) { return ((unsigned long long)(unsigned)a << 32) | (unsigned)b; }
+inline unsigned long long edgeKey(int a, int b) { return sideKey(std::min(a, b), std::max(a, b)); }
+
 class EdgeTable {
  public:
   struct Use {

@@ -14,9 +14,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kNoiseCrease = 0.02;  ///< of the diagonal (docs/discrete.md)
 
-unsigned long long edgeKey(int a, int b) {
-  return ((unsigned long long)(unsigned)std::min(a, b) << 32) | (unsigned)std::max(a, b);
-}
 
 /// Does the corner of the face at node x, between the wire's arrival from node p and its
 /// departure to node q (the face on its left), hold the mesh edge (x, y)? Turns about x through
@@ -25,7 +22,7 @@ bool cornerHolds(const TriangleSoup& m, const std::unordered_map<unsigned long l
                  int q, int y) {
   int cur = q;
   for (size_t guard = 0; guard < m.triangles.size(); ++guard) {
-    auto it = side.find(((unsigned long long)(unsigned)x << 32) | (unsigned)cur);
+    auto it = side.find(sideKey(x, cur));
     if (it == side.end()) return false;
     int r = -1;
     for (int v : m.triangles[it->second])
@@ -39,12 +36,15 @@ bool cornerHolds(const TriangleSoup& m, const std::unordered_map<unsigned long l
 
 }  // namespace
 
-size_t splicePosition(const TriangleSoup& m, const FeatureGraph& g, int f, const std::vector<std::pair<int, bool>>& o,
-                      int v, int next) {
+std::unordered_map<unsigned long long, int> faceSides(const TriangleSoup& m, const std::vector<int>& tris) {
   std::unordered_map<unsigned long long, int> side;
-  for (int t : g.faceTris[f])
-    for (int i = 0; i < 3; ++i)
-      side[((unsigned long long)(unsigned)m.triangles[t][i] << 32) | (unsigned)m.triangles[t][(i + 1) % 3]] = t;
+  for (int t : tris)
+    for (int i = 0; i < 3; ++i) side[sideKey(m.triangles[t][i], m.triangles[t][(i + 1) % 3])] = t;
+  return side;
+}
+
+size_t splicePosition(const TriangleSoup& m, const FeatureGraph& g, const std::unordered_map<unsigned long long, int>& side,
+                      const std::vector<std::pair<int, bool>>& o, int v, int next) {
   auto endOf = [&](const std::pair<int, bool>& u) { return u.second ? g.edges[u.first].v0 : g.edges[u.first].v1; };
   size_t k = o.size();
   for (size_t i = 0; i < o.size(); ++i) {
@@ -98,6 +98,7 @@ static void buildFaceLoops(const TriangleSoup& m, const EdgeTable& table, Featur
     // loops that touch at a vertex are one wire (a crease walked out and back, a slit): the later
     // loop, turned to start there, spliced into the earlier where that one passes the vertex
     auto& loops = g.faceLoops[f];
+    const auto sides = loops.size() > 1 ? faceSides(m, g.faceTris[f]) : std::unordered_map<unsigned long long, int>();
     for (bool spliced = true; spliced;) {
       spliced = false;
       for (size_t i = 0; i < loops.size() && !spliced; ++i)
@@ -106,7 +107,7 @@ static void buildFaceLoops(const TriangleSoup& m, const EdgeTable& table, Featur
           for (size_t p = 0; p < loops[j].size() && !spliced; ++p) {
             const int v = startOf(loops[j][p]);
             const auto& c = g.edges[loops[j][p].first].nodes;
-            const size_t k = splicePosition(m, g, f, loops[i], v, loops[j][p].second ? c[c.size() - 2] : c[1]);
+            const size_t k = splicePosition(m, g, sides, loops[i], v, loops[j][p].second ? c[c.size() - 2] : c[1]);
             if (k == loops[i].size()) continue;
             std::rotate(loops[j].begin(), loops[j].begin() + p, loops[j].end());
             loops[i].insert(loops[i].begin() + k + 1, loops[j].begin(), loops[j].end());

@@ -7,6 +7,7 @@
 /// first use by the edges. These become the discrete backend's faces, edges and vertices.
 #pragma once
 #include <array>
+#include <unordered_map>
 #include <vector>
 
 #include "paramesh/geom/discrete/TriangleSoup.hpp"
@@ -28,11 +29,15 @@ struct FeatureGraph {
   std::vector<std::vector<std::vector<std::pair<int, bool>>>> faceLoops;
 };
 
-/// Where a wire of face f passes vertex v with the mesh edge (v's node, next) in the corner the
-/// face has there: the index of the use arriving at v (a wire may pass a vertex more than once,
-/// along both sides of a crease or a seam). The first passage when none holds it, size() when the
-/// wire does not pass v.
-size_t splicePosition(const TriangleSoup& mesh, const FeatureGraph& g, int f,
+/// The directed sides (a, b) of a face's triangles (sideKey) -> the triangle.
+std::unordered_map<unsigned long long, int> faceSides(const TriangleSoup& mesh, const std::vector<int>& tris);
+
+/// Where a wire passes vertex v with the mesh edge (v's node, next) in the corner its face has
+/// there (sides: faceSides of that face): the index of the use arriving at v (a wire may pass a
+/// vertex more than once, along both sides of a crease or a seam). The first passage when none
+/// holds it, size() when the wire does not pass v.
+size_t splicePosition(const TriangleSoup& mesh, const FeatureGraph& g,
+                      const std::unordered_map<unsigned long long, int>& sides,
                       const std::vector<std::pair<int, bool>>& wire, int v, int next);
 
 /// featureAngleDeg: a mesh edge between two facets whose normals differ by more than this is a

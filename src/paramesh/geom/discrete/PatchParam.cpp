@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 /// @file PatchParam.cpp
 #include "paramesh/geom/discrete/PatchParam.hpp"
+#include "paramesh/geom/discrete/EdgeTable.hpp"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseLU>
@@ -15,8 +16,6 @@ namespace paramesh {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-unsigned long long key(int a, int b) { return ((unsigned long long)(unsigned)a << 32) | (unsigned)b; }
 
 int findSet(std::vector<int>& p, int i) {
   while (p[i] != i) i = p[i] = p[p[i]];
@@ -38,12 +37,12 @@ PatchParam parametrizeFace(const TriangleSoup& m, const FeatureGraph& g, int f) 
   std::unordered_set<unsigned long long> cut;
   for (const auto& [e, rev] : loops[0]) {
     const auto& n = g.edges[e].nodes;
-    for (size_t i = 1; i < n.size(); ++i) cut.insert(key(std::min(n[i - 1], n[i]), std::max(n[i - 1], n[i])));
+    for (size_t i = 1; i < n.size(); ++i) cut.insert(edgeKey(n[i - 1], n[i]));
   }
   // corners (t, i) joined across the face's uncut edges: each class is one local vertex
   std::unordered_map<unsigned long long, int> side;  // directed (a, b) -> corner index 3k + i of a in T[k]
   for (size_t k = 0; k < T.size(); ++k)
-    for (int i = 0; i < 3; ++i) side[key(m.triangles[T[k]][i], m.triangles[T[k]][(i + 1) % 3])] = (int)(3 * k + i);
+    for (int i = 0; i < 3; ++i) side[sideKey(m.triangles[T[k]][i], m.triangles[T[k]][(i + 1) % 3])] = (int)(3 * k + i);
   std::vector<int> parent(3 * T.size());
   std::iota(parent.begin(), parent.end(), 0);
   auto join = [&](int x, int y) {
@@ -53,8 +52,8 @@ PatchParam parametrizeFace(const TriangleSoup& m, const FeatureGraph& g, int f) 
   for (size_t k = 0; k < T.size(); ++k)
     for (int i = 0; i < 3; ++i) {
       const int a = m.triangles[T[k]][i], b = m.triangles[T[k]][(i + 1) % 3];
-      if (cut.count(key(std::min(a, b), std::max(a, b)))) continue;
-      auto it = side.find(key(b, a));  // the neighbour across (a, b) runs b -> a
+      if (cut.count(edgeKey(a, b))) continue;
+      auto it = side.find(sideKey(b, a));  // the neighbour across (a, b) runs b -> a
       if (it == side.end()) continue;
       const int nk = it->second / 3, ni = it->second % 3;
       join((int)(3 * k + i), (int)(3 * nk + (ni + 1) % 3));  // a in both
@@ -78,7 +77,7 @@ PatchParam parametrizeFace(const TriangleSoup& m, const FeatureGraph& g, int f) 
     if (rev) std::reverse(n.begin(), n.end());
     std::vector<int> lv(n.size(), -1);
     for (size_t i = 0; i + 1 < n.size(); ++i) {
-      auto it = side.find(key(n[i], n[i + 1]));
+      auto it = side.find(sideKey(n[i], n[i + 1]));
       if (it == side.end()) {
         out.error = name + ": its wire runs along Edge" + std::to_string(e + 1) + " against its triangles";
         return out;
@@ -93,7 +92,7 @@ PatchParam parametrizeFace(const TriangleSoup& m, const FeatureGraph& g, int f) 
   // Euler characteristic of the cut face: a disk has V - E + F = 1
   std::unordered_set<unsigned long long> localEdges;
   for (const auto& t : out.tris)
-    for (int i = 0; i < 3; ++i) localEdges.insert(key(std::min(t[i], t[(i + 1) % 3]), std::max(t[i], t[(i + 1) % 3])));
+    for (int i = 0; i < 3; ++i) localEdges.insert(edgeKey(t[i], t[(i + 1) % 3]));
   const long chi = (long)V - (long)localEdges.size() + (long)T.size();
   std::vector<char> onRing(V, 0);
   for (int v : ring) {
